@@ -1,0 +1,49 @@
+#include <voxplore/apps/app_common.h>
+
+#include <filesystem>
+#include <fstream>
+#include <iostream>
+#include <stdexcept>
+#include <string>
+
+namespace voxplore::apps
+{
+int runGuarded(const std::string& app_name, const std::function<int()>& body)
+{
+  try
+  {
+    return body();
+  }
+  catch (const std::exception& e)
+  {
+    std::cerr << "\n" << app_name << ": error: " << e.what() << std::endl;
+    return 1;
+  }
+}
+
+int exitCodeAfterFailedParse(int argc, const char* const* argv)
+{
+  for (int i = 1; i < argc; i++)
+  {
+    const std::string a = argv[i];
+    if (a == "-h" || a == "--help" || a == "--version") return 0;
+  }
+  return 1;
+}
+
+void prepareOutputDir(const std::string& dir)
+{
+  namespace fs = std::filesystem;
+  std::error_code ec;
+  fs::create_directories(dir, ec);
+  if (ec || !fs::is_directory(dir))
+    throw std::runtime_error("cannot create output directory '" + dir + "': " + ec.message());
+  const auto probe = fs::path(dir) / ".voxplore_write_test";
+  {
+    std::ofstream f(probe);
+    if (!f) throw std::runtime_error("output directory '" + dir + "' is not writable");
+  }
+  fs::remove(probe, ec);
+}
+
+}  // namespace voxplore::apps

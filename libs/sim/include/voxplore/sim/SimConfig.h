@@ -1,0 +1,36 @@
+/* voxplore — the simulator's whole configuration ([robot], [cameras], [simulator]). */
+#pragma once
+
+#include <mrpt/config/CConfigFileBase.h>
+#include <voxplore/sim/DepthCameraRig.h>
+#include <voxplore/sim/Robot.h>
+#include <voxplore/sim/Simulator.h>
+
+#include <optional>
+#include <string>
+
+namespace voxplore::sim
+{
+/// @brief Robot, cameras and simulator settings as one unit.
+struct SimConfig
+{
+  RobotParams robot;
+  CameraRigParams cameras;
+  SimulatorParams sim;
+
+  /// @brief Loads [robot], [cameras], [simulator] from `cfg` (keys checked:
+  ///        unknown keys and non-numbers are errors naming file and key).
+  ///        `profile` (omnirob | compact), when given, replaces [robot]
+  ///        profile as the base the ini keys override. Unless the ini lists
+  ///        camN_pose keys, the camera ring is placed around the robot's footprint.
+  static SimConfig load(
+      const mrpt::config::CConfigFileBase& cfg, const std::optional<std::string>& profile = {});
+
+  /// @brief The defaults for a robot profile (camera ring around its footprint).
+  static SimConfig defaults(const std::string& profile = "omnirob");
+
+  /// @brief Writes all three sections.
+  void save(mrpt::config::CConfigFileBase& cfg) const;
+};
+
+}  // namespace voxplore::sim

@@ -1,0 +1,51 @@
+#include <mrpt/config/CConfigFileMemory.h>
+#include <voxplore/common/config.h>
+#include <voxplore/sim/SimConfig.h>
+
+namespace voxplore::sim
+{
+SimConfig SimConfig::defaults(const std::string& profile)
+{
+  SimConfig c;
+  c.robot = RobotParams::byName(profile);
+  c.cameras.mounts = CameraRigParams::ringAround(
+      c.robot.length_m, c.robot.width_m, c.robot.camera_height_m, c.cameras.vfov);
+  return c;
+}
+
+SimConfig SimConfig::load(
+    const mrpt::config::CConfigFileBase& cfg, const std::optional<std::string>& profile)
+{
+  const std::string prof =
+      profile ? *profile : cfg.read_string("robot", "profile", "omnirob", false);
+  SimConfig c = defaults(prof == "custom" ? "omnirob" : prof);
+  common::loadChecked(c.robot, cfg, "robot");
+  if (profile) c.robot.profile = *profile;
+
+  // camN_pose keys for any N are known; which ones are required depends on num_cameras.
+  std::set<std::string> cam_keys;
+  for (int i = 0; i < 256; i++) cam_keys.insert("cam" + std::to_string(i) + "_pose");
+  common::assertKnownKeys(cfg, "cameras", c.cameras, cam_keys);
+  common::assertNumericValues(cfg, "cameras", c.cameras);
+  bool explicit_poses = false;
+  for (const auto& k : cam_keys) explicit_poses = explicit_poses || cfg.keyExists("cameras", k);
+  c.cameras.loadFromConfigFile(cfg, "cameras");
+  if (!explicit_poses)
+    c.cameras.mounts = CameraRigParams::ringAround(
+        c.robot.length_m, c.robot.width_m, c.robot.camera_height_m, c.cameras.vfov);
+  common::requireValid(
+      static_cast<int>(c.cameras.mounts.size()) == c.cameras.num_cameras, cfg, "cameras",
+      "num_cameras", "the default ring has 8 cameras: give camN_pose for every camera");
+
+  common::loadChecked(c.sim, cfg, "simulator");
+  return c;
+}
+
+void SimConfig::save(mrpt::config::CConfigFileBase& cfg) const
+{
+  robot.saveToConfigFile(cfg, "robot");
+  cameras.saveToConfigFile(cfg, "cameras");
+  sim.saveToConfigFile(cfg, "simulator");
+}
+
+}  // namespace voxplore::sim

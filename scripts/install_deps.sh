@@ -1,0 +1,42 @@
+#!/usr/bin/env bash
+# Installs voxplore's build and test dependencies from Debian 12 packages
+# (nothing is downloaded from elsewhere). Skips apt entirely when everything
+# is already installed. Needs root (or passwordless sudo) for apt-get.
+set -euo pipefail
+
+PACKAGES=(
+  cmake g++ make pkg-config ccache
+  libeigen3-dev
+  # MRPT 2.5.8, one -dev package per component we link
+  libmrpt-maps-dev libmrpt-slam-dev libmrpt-nav-dev libmrpt-obs-dev libmrpt-poses-dev
+  libmrpt-config-dev libmrpt-io-dev libmrpt-serialization-dev libmrpt-system-dev
+  libmrpt-math-dev libmrpt-tfest-dev libmrpt-kinematics-dev libmrpt-img-dev
+  libmrpt-random-dev libmrpt-tclap-dev
+  # rawlog-edit, RawLogViewer: the tests check our rawlogs with rawlog-edit --info
+  mrpt-apps
+  # OctoMap library and tools (bt2vrml)
+  liboctomap-dev octomap-tools
+  # ray casting, mesh loading, JSON
+  libembree-dev libassimp-dev nlohmann-json3-dev
+  # tests and benchmarks
+  libgtest-dev libgmock-dev libbenchmark-dev
+)
+
+missing=()
+for p in "${PACKAGES[@]}"; do
+  dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
+done
+if [ ${#missing[@]} -eq 0 ]; then
+  echo "install_deps: all ${#PACKAGES[@]} packages present"
+  exit 0
+fi
+
+SUDO=""
+if [ "$(id -u)" -ne 0 ]; then
+  command -v sudo >/dev/null || { echo "install_deps: need root or sudo to install: ${missing[*]}" >&2; exit 1; }
+  SUDO="sudo"
+fi
+echo "install_deps: installing ${missing[*]}"
+export DEBIAN_FRONTEND=noninteractive
+$SUDO apt-get update -qq
+$SUDO apt-get install -y -qq --no-install-recommends "${missing[@]}"

@@ -1,0 +1,117 @@
+// Configuration: every config/*.ini loads, save/load round trips, and bad
+// keys or values are errors naming the file and the key.
+#include <gtest/gtest.h>
+#include <mrpt/config/CConfigFile.h>
+#include <mrpt/config/CConfigFileMemory.h>
+#include <voxplore/common/config.h>
+#include <voxplore/sim/SimConfig.h>
+
+#include <filesystem>
+#include <fstream>
+
+#include "test_worlds.h"
+
+using namespace voxplore;
+namespace fs = std::filesystem;
+
+namespace
+{
+std::string saved(const sim::SimConfig& c)
+{
+  mrpt::config::CConfigFileMemory m;
+  c.save(m);
+  return m.getContent();
+}
+
+std::string errorOf(const std::string& ini_text)
+{
+  const auto path = (fs::path(::testing::TempDir()) / "bad_config.ini").string();
+  std::ofstream(path) << ini_text;
+  try
+  {
+    mrpt::config::CConfigFile cfg(path);
+    sim::SimConfig::load(cfg);
+  }
+  catch (const std::exception& e)
+  {
+    return e.what();
+  }
+  return {};
+}
+}  // namespace
+
+TEST(Config, EveryIniInConfigLoads)
+{
+  std::size_t n = 0;
+  for (const auto& entry : fs::directory_iterator(test::sourceDir() + "/config"))
+  {
+    if (entry.path().extension() != ".ini") continue;
+    SCOPED_TRACE(entry.path().string());
+    const auto cfg = common::openIniFile(entry.path().string());
+    std::vector<std::string> sections;
+    cfg->getAllSections(sections);
+    // Only sections this library knows are loaded here; later libraries
+    // (mapping, exploration, ...) extend this test with theirs.
+    EXPECT_NO_THROW(sim::SimConfig::load(*cfg));
+    n++;
+  }
+  EXPECT_GE(n, 1u);
+}
+
+TEST(Config, SaveThenLoadGivesTheSameParameters)
+{
+  for (const char* profile : {"omnirob", "compact"})
+  {
+    auto c = sim::SimConfig::defaults(profile);
+    c.robot.max_v_mps = 0.37;
+    c.cameras.range_noise_sigma_m = 0.004;
+    c.sim.seed = 99;
+    c.sim.scan_every_m = 0.7;
+    mrpt::config::CConfigFileMemory m;
+    c.save(m);
+    const auto back = sim::SimConfig::load(m);
+    EXPECT_EQ(saved(back), saved(c)) << profile;
+  }
+}
+
+TEST(Config, CompactProfileMovesTheCameraRing)
+{
+  mrpt::config::CConfigFileMemory empty;
+  const auto c = sim::SimConfig::load(empty, std::string("compact"));
+  for (const auto& m : c.cameras.mounts)
+    EXPECT_LE(std::hypot(m.x(), m.y()), c.robot.footprint().circumradius() + 1e-9);
+}
+
+TEST(Config, UnknownKeyIsAnErrorNamingFileAndKey)
+{
+  const auto msg = errorOf("[robot]\nlenght_m = 1.0\n");
+  EXPECT_NE(msg.find("bad_config.ini"), std::string::npos) << msg;
+  EXPECT_NE(msg.find("lenght_m"), std::string::npos) << msg;
+  EXPECT_NE(msg.find("length_m"), std::string::npos) << "suggests the right key: " << msg;
+}
+
+TEST(Config, WrongTypeAndOutOfRangeValuesAreErrors)
+{
+  auto msg = errorOf("[simulator]\ndt_s = fast\n");
+  EXPECT_NE(msg.find("dt_s"), std::string::npos) << msg;
+  msg = errorOf("[cameras]\nnum_cameras = 0\n");
+  EXPECT_NE(msg.find("num_cameras"), std::string::npos) << msg;
+  msg = errorOf("[cameras]\nmin_range_m = 8\n");
+  EXPECT_NE(msg.find("min_range_m"), std::string::npos) << msg;
+  msg = errorOf("[robot]\nwidth_m = -1\n");
+  EXPECT_NE(msg.find("bad_config.ini"), std::string::npos) << msg;
+  msg = errorOf("[cameras]\nnum_cameras = 2\ncam0_pose = 0 0 0.6 0 15 0\n");
+  EXPECT_NE(msg.find("cam1_pose"), std::string::npos) << msg;
+}
+
+TEST(Config, ExplicitCameraPosesAreUsed)
+{
+  mrpt::config::CConfigFileMemory m;
+  m.write("cameras", "num_cameras", 2);
+  m.write("cameras", "cam0_pose", "0.5 0 0.6 0 15 0");
+  m.write("cameras", "cam1_pose", "-0.5 0 0.6 180 15 0");
+  const auto c = sim::SimConfig::load(m);
+  ASSERT_EQ(c.cameras.mounts.size(), 2u);
+  EXPECT_NEAR(c.cameras.mounts[1].x(), -0.5, 1e-12);
+  EXPECT_NEAR(std::abs(c.cameras.mounts[1].yaw()), M_PI, 1e-9);
+}

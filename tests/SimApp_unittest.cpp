@@ -1,0 +1,155 @@
+// mrpt-sim end to end: outputs, determinism, and errors for bad input.
+#include <gtest/gtest.h>
+#include <voxplore/apps/SimApp.h>
+#include <voxplore/common/rawlog_io.h>
+#include <voxplore/common/trajectory_io.h>
+
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <iterator>
+
+#include "test_worlds.h"
+
+using namespace voxplore;
+namespace fs = std::filesystem;
+
+namespace
+{
+std::string tmp(const std::string& name) { return (fs::path(::testing::TempDir()) / name).string(); }
+
+std::string writeFile(const std::string& name, const std::string& text)
+{
+  const auto p = tmp(name);
+  std::ofstream(p) << text;
+  return p;
+}
+
+std::string readAll(const std::string& path)
+{
+  std::ifstream f(path, std::ios::binary);
+  return {std::istreambuf_iterator<char>(f), std::istreambuf_iterator<char>()};
+}
+
+apps::SimOptions shortTour(const std::string& out, int seed)
+{
+  apps::SimOptions o;
+  o.world = test::sourceDir() + "/simulated_worlds/dlr_test_room.world";
+  o.waypoints = writeFile("short_tour.txt", "# 1.2 m then a turn\n2.0 2.8\n2.0 2.8 30\n");
+  o.config = test::sourceDir() + "/config/sim.ini";
+  o.out_dir = tmp(out);
+  o.seed = seed;
+  o.quiet = true;
+  return o;
+}
+
+std::string errorOf(const apps::SimOptions& o)
+{
+  try
+  {
+    apps::SimApp{}.execute(o);
+  }
+  catch (const std::exception& e)
+  {
+    return e.what();
+  }
+  return {};
+}
+}  // namespace
+
+TEST(SimApp, ShortTourWritesAllOutputs)
+{
+  const auto o = shortTour("sim_out_a", 3);
+  const auto s = apps::SimApp{}.execute(o);
+  // start + 3 pieces of <= 0.5 m to the first waypoint + 1 turn in place
+  EXPECT_EQ(s.stops, 5u);
+  EXPECT_EQ(s.collisions, 0u);
+  EXPECT_EQ(s.blocked_segments, 0u);
+  EXPECT_NEAR(s.path_length_m, 1.2, 0.05);
+  for (const char* f : {"run.rawlog", "trajectory_gt.tum", "trajectory_odo.tum", "topview.png", "params.ini"})
+    EXPECT_TRUE(fs::is_regular_file(fs::path(o.out_dir) / f)) << f;
+  const auto gt = common::readTum(o.out_dir + "/trajectory_gt.tum");
+  ASSERT_EQ(gt.size(), s.stops);
+  EXPECT_NEAR(gt.front().pose.x(), 2.0, 1e-6);
+  EXPECT_NEAR(gt.front().pose.y(), 4.0, 1e-6);
+  EXPECT_NEAR(gt.back().pose.y(), 2.8, 0.011);
+  EXPECT_NEAR(gt.back().pose.yaw(), mrpt::DEG2RAD(30.0), mrpt::DEG2RAD(1.01));
+  std::size_t entries = 0;
+  common::forEachRawlogEntry(o.out_dir + "/run.rawlog", [&](const common::RawlogEntry& e) {
+    EXPECT_EQ(e.observations->size(), 9u);
+    entries++;
+    return true;
+  });
+  EXPECT_EQ(entries, s.stops);
+}
+
+TEST(SimApp, RawlogEditReadsOurRawlog)
+{
+  if (!fs::exists("/usr/bin/rawlog-edit")) GTEST_SKIP() << "rawlog-edit (mrpt-apps) not installed";
+  const auto o = shortTour("sim_out_info", 1);
+  apps::SimApp{}.execute(o);
+  const auto log = tmp("rawlog_edit_info.txt");
+  const std::string cmd =
+      "rawlog-edit --info -i '" + o.out_dir + "/run.rawlog' > '" + log + "' 2>&1";
+  ASSERT_EQ(std::system(cmd.c_str()), 0) << readAll(log);
+  const auto text = readAll(log);
+  EXPECT_NE(text.find("CObservation3DRangeScan"), std::string::npos) << text;
+  EXPECT_NE(text.find("CObservationOdometry"), std::string::npos) << text;
+}
+
+TEST(SimApp, SameSeedSameRunDifferentSeedDifferentRun)
+{
+  apps::SimApp{}.execute(shortTour("sim_seed_a", 7));
+  apps::SimApp{}.execute(shortTour("sim_seed_b", 7));
+  apps::SimApp{}.execute(shortTour("sim_seed_c", 8));
+  const auto a = readAll(tmp("sim_seed_a") + "/run.rawlog");
+  EXPECT_FALSE(a.empty());
+  EXPECT_EQ(a, readAll(tmp("sim_seed_b") + "/run.rawlog"));
+  EXPECT_NE(a, readAll(tmp("sim_seed_c") + "/run.rawlog"));
+  EXPECT_EQ(readAll(tmp("sim_seed_a") + "/trajectory_gt.tum"),
+            readAll(tmp("sim_seed_b") + "/trajectory_gt.tum"));
+}
+
+TEST(SimApp, StartInsideAnObstacleNamesTheWorldFile)
+{
+  auto o = shortTour("sim_bad_start", 1);
+  o.start = "5.0,4.0,0";  // the meeting table
+  const auto msg = errorOf(o);
+  EXPECT_NE(msg.find("dlr_test_room.world"), std::string::npos) << msg;
+  EXPECT_NE(msg.find("start"), std::string::npos) << msg;
+}
+
+TEST(SimApp, BadInputsAreNamedErrors)
+{
+  auto o = shortTour("sim_bad", 1);
+  o.world = "/nonexistent/world.world";
+  EXPECT_NE(errorOf(o).find("/nonexistent/world.world"), std::string::npos);
+
+  o = shortTour("sim_bad", 1);
+  o.waypoints = writeFile("bad_wp.txt", "1 2\n3 four\n");
+  const auto msg = errorOf(o);
+  EXPECT_NE(msg.find("bad_wp.txt:2"), std::string::npos) << msg;
+
+  o = shortTour("sim_bad", 1);
+  o.config = writeFile("bad.ini", "[robot]\nmax_speed = 2\n");
+  EXPECT_NE(errorOf(o).find("max_speed"), std::string::npos);
+
+  o = shortTour("sim_bad", 1);
+  o.robot = "tank";
+  EXPECT_NE(errorOf(o).find("tank"), std::string::npos);
+
+  o = shortTour("sim_bad", 1);
+  o.out_dir = "/proc/voxplore_cannot_write_here";
+  EXPECT_NE(errorOf(o).find("/proc/voxplore_cannot_write_here"), std::string::npos);
+}
+
+TEST(SimApp, CommandLineHelpAndErrors)
+{
+  const char* help[] = {"mrpt-sim", "--help"};
+  EXPECT_EQ(apps::SimApp{}.run(2, help), 0);
+  const char* missing[] = {"mrpt-sim", "--world", "x.world"};
+  EXPECT_EQ(apps::SimApp{}.run(3, missing), 1);
+  const char* bad_world[] = {"mrpt-sim", "--world", "/nonexistent.world", "--waypoints", "/x",
+                             "--out", "/tmp/x"};
+  EXPECT_EQ(apps::SimApp{}.run(7, bad_world), 1);
+}

@@ -1,0 +1,42 @@
+/* voxplore tests — small worlds built in code and data paths. */
+#pragma once
+
+#include <voxplore/sim/World.h>
+
+#include <filesystem>
+#include <string>
+
+namespace voxplore::test
+{
+/// Project source directory (compile definition).
+inline std::string sourceDir() { return VOXPLORE_SOURCE_DIR; }
+/// ../shared/worlds beside the checkout (may be missing).
+inline std::string sharedWorldsDir() { return VOXPLORE_SHARED_WORLDS_DIR; }
+
+/// @brief A closed box room [0, sx] x [0, sy] x [0, sz] built from six
+///        inward-facing planes (two triangles each), robot start at `start`.
+inline sim::World boxRoom(float sx, float sy, float sz, const mrpt::poses::CPose2D& start)
+{
+  sim::World w;
+  w.name = "box_room";
+  w.source_path = "<box_room>";
+  using V = Eigen::Vector3f;
+  auto& m = w.mesh;
+  m.addQuad(V(0, 0, 0), V(sx, 0, 0), V(sx, sy, 0), V(0, sy, 0));          // floor
+  m.addQuad(V(0, 0, sz), V(0, sy, sz), V(sx, sy, sz), V(sx, 0, sz));      // ceiling
+  m.addQuad(V(0, 0, 0), V(0, sy, 0), V(0, sy, sz), V(0, 0, sz));          // x = 0
+  m.addQuad(V(sx, 0, 0), V(sx, 0, sz), V(sx, sy, sz), V(sx, sy, 0));      // x = sx
+  m.addQuad(V(0, 0, 0), V(0, 0, sz), V(sx, 0, sz), V(sx, 0, 0));          // y = 0
+  m.addQuad(V(0, sy, 0), V(sx, sy, 0), V(sx, sy, sz), V(0, sy, sz));      // y = sy
+  w.start = start;
+  return w;
+}
+
+/// @brief Distance of a point to the nearest face plane of the box room.
+inline double distanceToBoxRoom(const Eigen::Vector3d& p, double sx, double sy, double sz)
+{
+  return std::min({std::abs(p.x()), std::abs(p.x() - sx), std::abs(p.y()), std::abs(p.y() - sy),
+                   std::abs(p.z()), std::abs(p.z() - sz)});
+}
+
+}  // namespace voxplore::test
