@@ -30,7 +30,10 @@ std::vector<sim::ScanStop> writeSmallRawlog(const std::string& path)
   std::vector<sim::ScanStop> stops;
   for (int i = 0; i < 4; i++)
   {
-    if (i > 0) EXPECT_EQ(simu.driveTo(3 + 0.5 * i, 4, std::nullopt), sim::DriveOutcome::Reached);
+    if (i > 0)
+    {
+      EXPECT_EQ(simu.driveTo(3 + 0.5 * i, 4, std::nullopt), sim::DriveOutcome::Reached);
+    }
     stops.push_back(simu.scan());
     w.write(*stops.back().actions, *stops.back().observations);
   }

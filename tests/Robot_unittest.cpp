@@ -68,7 +68,7 @@ TEST(OmniRobot, OdometryErrorStatisticsMatchTheModel)
   {
     sim::OmniRobot r(p, CPose2D());
     // Move exactly by `inc` (noise-free motion): rotate in place after translating.
-    const int steps = 10;
+    const int steps = 20;  // 0.25 m/s, below max_v_mps
     for (int i = 0; i < steps; i++) r.step(inc.x() / (0.1 * steps), inc.y() / (0.1 * steps), 0, 0.1, rng, nullptr);
     for (int i = 0; i < steps; i++) r.step(0, 0, inc.phi() / (0.1 * steps), 0.1, rng, nullptr);
     ASSERT_NEAR((r.groundTruth() - inc).norm(), 0.0, 1e-9);

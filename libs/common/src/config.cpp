@@ -14,21 +14,23 @@ namespace voxplore::common
 {
 namespace
 {
+// Optimal string alignment distance: edits plus adjacent transpositions
+// (the typical typo "lenght" is one edit from "length").
 std::size_t editDistance(const std::string& a, const std::string& b)
 {
-  std::vector<std::size_t> prev(b.size() + 1), cur(b.size() + 1);
-  for (std::size_t j = 0; j <= b.size(); j++) prev[j] = j;
-  for (std::size_t i = 1; i <= a.size(); i++)
-  {
-    cur[0] = i;
-    for (std::size_t j = 1; j <= b.size(); j++)
+  const std::size_t n = a.size(), m = b.size();
+  std::vector<std::vector<std::size_t>> d(n + 1, std::vector<std::size_t>(m + 1));
+  for (std::size_t i = 0; i <= n; i++) d[i][0] = i;
+  for (std::size_t j = 0; j <= m; j++) d[0][j] = j;
+  for (std::size_t i = 1; i <= n; i++)
+    for (std::size_t j = 1; j <= m; j++)
     {
-      const std::size_t sub = prev[j - 1] + (a[i - 1] == b[j - 1] ? 0 : 1);
-      cur[j] = std::min({prev[j] + 1, cur[j - 1] + 1, sub});
+      const std::size_t cost = a[i - 1] == b[j - 1] ? 0 : 1;
+      d[i][j] = std::min({d[i - 1][j] + 1, d[i][j - 1] + 1, d[i - 1][j - 1] + cost});
+      if (i > 1 && j > 1 && a[i - 1] == b[j - 2] && a[i - 2] == b[j - 1])
+        d[i][j] = std::min(d[i][j], d[i - 2][j - 2] + 1);
     }
-    std::swap(prev, cur);
-  }
-  return prev[b.size()];
+  return d[n][m];
 }
 
 std::string closest(const std::string& key, const std::set<std::string>& known)

@@ -60,16 +60,26 @@ void CameraRigParams::loadFromConfigFile(
   requireValid(range_units_m > 0 && max_range_m / range_units_m < 65535, c, s, "range_units_m",
                "must be > 0 and max_range_m / range_units_m must fit in uint16");
   requireValid(num_cameras > 0, c, s, "num_cameras", "need at least one camera");
+  // Either every camera's pose is given (camN_pose for N < num_cameras) or
+  // none, and then the current mounts (the default ring) are kept.
+  int given = 0;
+  for (int i = 0; i < num_cameras; i++) given += c.keyExists(s, "cam" + std::to_string(i) + "_pose");
+  if (given == 0)
+  {
+    requireValid(num_cameras == static_cast<int>(mounts.size()), c, s, "num_cameras",
+                 "differs from the " + std::to_string(mounts.size()) +
+                     " default cameras: give camN_pose = x y z yaw_deg pitch_deg roll_deg for "
+                     "every camera");
+    return;
+  }
   mounts.resize(num_cameras);
   for (int i = 0; i < num_cameras; i++)
   {
     const std::string key = "cam" + std::to_string(i) + "_pose";
     if (!c.keyExists(s, key))
-    {
-      requireValid(i < static_cast<int>(mounts.size()) && mounts[i].norm() > 0, c, s, key,
-                   "missing: give 'x y z yaw_deg pitch_deg roll_deg' for every camera");
-      continue;
-    }
+      throw std::runtime_error(common::configSourceName(c) + ": [" + s + "] " + key +
+                               " missing: when any camN_pose is given, give all " +
+                               std::to_string(num_cameras) + " (x y z yaw_deg pitch_deg roll_deg)");
     const auto v = common::parseNumberList(
         c.read_string(s, key, ""), common::configSourceName(c) + ": [" + s + "] " + key);
     requireValid(v.size() == 6, c, s, key, "expected 'x y z yaw_deg pitch_deg roll_deg'");
