@@ -66,6 +66,11 @@ class Simulator
   Simulator(
       World world, const RobotParams& robot, const CameraRigParams& cameras,
       const SimulatorParams& sim);
+  // The collision checker points into world_: not copyable, not movable.
+  Simulator(const Simulator&) = delete;
+  Simulator& operator=(const Simulator&) = delete;
+  Simulator(Simulator&&) = delete;
+  Simulator& operator=(Simulator&&) = delete;
 
   /// @brief One velocity step of dt_s (robot frame).
   OmniRobot::StepResult step(double vx_mps, double vy_mps, double w_radps);
