@@ -14,6 +14,8 @@ PACKAGES=(
   libmrpt-random-dev libmrpt-tclap-dev
   # rawlog-edit, RawLogViewer: the tests check our rawlogs with rawlog-edit --info
   mrpt-apps
+  # MRPT's example datasets (2D laser rawlogs, one Kinect frame): bad-input tests
+  mrpt-common
   # OctoMap library and tools (bt2vrml)
   liboctomap-dev octomap-tools
   # ray casting, mesh loading, JSON

@@ -4,10 +4,12 @@
 #include <mrpt/config/CConfigFile.h>
 #include <mrpt/config/CConfigFileMemory.h>
 #include <voxplore/common/config.h>
+#include <voxplore/mapping/SlamIcp.h>
 #include <voxplore/sim/SimConfig.h>
 
 #include <filesystem>
 #include <fstream>
+#include <set>
 
 #include "test_worlds.h"
 
@@ -48,14 +50,17 @@ TEST(Config, EveryIniInConfigLoads)
     if (entry.path().extension() != ".ini") continue;
     SCOPED_TRACE(entry.path().string());
     const auto cfg = common::openIniFile(entry.path().string());
-    std::vector<std::string> sections;
-    cfg->getAllSections(sections);
-    // Only sections this library knows are loaded here; later libraries
-    // (mapping, exploration, ...) extend this test with theirs.
+    // Every section must belong to a known Parameters struct, and each
+    // struct present must load (keys and values checked).
+    std::set<std::string> known = {"robot", "cameras", "simulator"};
+    for (const auto& sec : mapping::SlamIcpParams::sections()) known.insert(sec);
+    EXPECT_NO_THROW(common::assertKnownSections(*cfg, known));
     EXPECT_NO_THROW(sim::SimConfig::load(*cfg));
+    mapping::SlamIcpParams slam;
+    EXPECT_NO_THROW(slam.load(*cfg));
     n++;
   }
-  EXPECT_GE(n, 1u);
+  EXPECT_GE(n, 2u);
 }
 
 TEST(Config, SaveThenLoadGivesTheSameParameters)
@@ -114,4 +119,44 @@ TEST(Config, ExplicitCameraPosesAreUsed)
   ASSERT_EQ(c.cameras.mounts.size(), 2u);
   EXPECT_NEAR(c.cameras.mounts[1].x(), -0.5, 1e-12);
   EXPECT_NEAR(std::abs(c.cameras.mounts[1].yaw()), M_PI, 1e-9);
+}
+
+TEST(Config, SlamIcpParamsRoundTrip)
+{
+  mapping::SlamIcpParams p;
+  p.metaview.d_min_m = 0.03;
+  p.icp.d_max_m = 0.4;
+  p.icp.max_correction_yaw = mrpt::DEG2RAD(7.0);
+  p.octomap.l_res_m = 0.08;
+  p.octomap.invalid_free_range_m = 2.0;
+  p.cloud.z_min_m = 0.12;
+  mrpt::config::CConfigFileMemory m1, m2;
+  p.save(m1);
+  mapping::SlamIcpParams q;
+  q.load(m1);
+  q.save(m2);
+  EXPECT_EQ(m1.getContent(), m2.getContent());
+  EXPECT_NEAR(q.icp.max_correction_yaw, mrpt::DEG2RAD(7.0), 1e-12);
+  EXPECT_EQ(q.octomap.l_res_m, 0.08);
+}
+
+TEST(Config, SlamIcpParamsRejectBadValues)
+{
+  const auto path = (fs::path(::testing::TempDir()) / "bad_slam.ini").string();
+  for (const char* text : {"[octomap]\nl_res_m = -0.05\n", "[octomap]\nth_free = 250\n",
+                           "[icp]\nd_max_m = abc\n", "[metaview]\nd_mn_m = 0.02\n"})
+  {
+    std::ofstream(path) << text;
+    mrpt::config::CConfigFile cfg(path);
+    mapping::SlamIcpParams p;
+    try
+    {
+      p.load(cfg);
+      ADD_FAILURE() << "no error for: " << text;
+    }
+    catch (const std::exception& e)
+    {
+      EXPECT_NE(std::string(e.what()).find("bad_slam.ini"), std::string::npos) << e.what();
+    }
+  }
 }

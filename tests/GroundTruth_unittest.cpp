@@ -313,3 +313,19 @@ TEST(TopView, WritesPngOfTheExpectedSize)
   EXPECT_THROW(writeTopView(w, caster, "/nonexistent_dir/x/top.png", 20.0), std::runtime_error);
   std::remove(path.c_str());
 }
+
+TEST(OccupiedVoxels, FacesOnGridPlanesAreNotLostToRounding)
+{
+  // 4.0 / 0.05 rounds to 79.999...: a face at x = 4 must still mark voxels
+  // (both neighbours: voxels are closed boxes), as must every face of the box.
+  TriangleMesh m;
+  m.addBox({5.0f, 0.25f, 0.9f}, {2.0f, 0.5f, 1.8f});  // x in [4, 6], y in [0, 0.5], z in [0, 1.8]
+  const auto vox = occupiedVoxels(m, 0.05);
+  std::set<int> xs_at_mid;
+  for (const auto& v : vox)
+    if (v.y() == 5 && v.z() == 18) xs_at_mid.insert(v.x());
+  EXPECT_EQ(xs_at_mid, (std::set<int>{79, 80, 119, 120}));
+  // 2 x (40 x 10 + 40 x 36 + 10 x 36) face voxels, doubled across each face plane,
+  // minus nothing: every face lies on a grid plane.
+  EXPECT_GT(vox.size(), 2u * (40 * 10 + 40 * 36 + 10 * 36));
+}

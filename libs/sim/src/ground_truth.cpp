@@ -86,18 +86,22 @@ int voxelOf(double x, double res)
 }
 
 /// Appends the voxels of one triangle, iz limited to [iz_min, iz_max].
+/// Voxels are closed boxes (touching counts) tested with a relative
+/// tolerance of 1e-9: a face lying on a grid plane (x = 4.0 at 5 cm, where
+/// 4.0 / 0.05 rounds to 79.999...) marks the voxels on both sides of it
+/// instead of, by rounding, neither.
 void rasterizeTriangle(const Vec3& a, const Vec3& b, const Vec3& c, double res, int iz_min,
                        int iz_max, std::vector<VoxelIndex>& out)
 {
   const Vec3 lo = a.cwiseMin(b).cwiseMin(c), hi = a.cwiseMax(b).cwiseMax(c);
-  const int z0 = std::max(voxelOf(lo.z(), res), iz_min);
-  const int z1 = std::min(voxelOf(hi.z(), res), iz_max);
+  const int z0 = std::max(voxelOf(lo.z(), res) - 1, iz_min);
+  const int z1 = std::min(voxelOf(hi.z(), res) + 1, iz_max);
   if (z0 > z1) return;
   const TriangleBoxTester tester(a, b, c);
-  const double h = 0.5 * res;
-  for (int ix = voxelOf(lo.x(), res), x1 = voxelOf(hi.x(), res); ix <= x1; ++ix)
+  const double h = 0.5 * res * (1.0 + 1e-9);
+  for (int ix = voxelOf(lo.x(), res) - 1, x1 = voxelOf(hi.x(), res) + 1; ix <= x1; ++ix)
   {
-    for (int iy = voxelOf(lo.y(), res), y1 = voxelOf(hi.y(), res); iy <= y1; ++iy)
+    for (int iy = voxelOf(lo.y(), res) - 1, y1 = voxelOf(hi.y(), res) + 1; iy <= y1; ++iy)
     {
       int zc0 = z0, zc1 = z1;
       double z_lo = 0, z_hi = 0;
@@ -109,7 +113,10 @@ void rasterizeTriangle(const Vec3& a, const Vec3& b, const Vec3& c, double res, 
       for (int iz = zc0; iz <= zc1; ++iz)
       {
         const Vec3 centre((ix + 0.5) * res, (iy + 0.5) * res, (iz + 0.5) * res);
-        if (tester.overlaps(centre, h)) out.emplace_back(ix, iy, iz);
+        // Box-normal axes of the SAT: the voxel must overlap the triangle's bounds.
+        const bool in_bounds = ((centre.array() + h) >= lo.array()).all() &&
+                               ((centre.array() - h) <= hi.array()).all();
+        if (in_bounds && tester.overlaps(centre, h)) out.emplace_back(ix, iy, iz);
       }
     }
   }

@@ -1,0 +1,147 @@
+/* voxplore — the 3D occupancy map V (thesis 4.4.3): an octomap::OcTree fed
+ * per camera with world-frame rays from that camera's origin. */
+#pragma once
+
+#include <mrpt/config/CLoadableOptions.h>
+#include <mrpt/obs/CObservation3DRangeScan.h>
+#include <mrpt/poses/CPose3D.h>
+
+#include <Eigen/Core>
+#include <memory>
+#include <string>
+#include <vector>
+
+namespace octomap
+{
+class OcTree;
+}
+
+namespace voxplore::mapping
+{
+/// @brief OctoMap settings; thresholds on the thesis' 0..255 occupancy scale
+///        (p = value / 255). ini section [octomap].
+struct OctoMapParams : public mrpt::config::CLoadableOptions
+{
+  double l_res_m = 0.05;  ///< voxel edge length l_res [m] (thesis: 5 cm)
+  int th_free = 70;       ///< a voxel is free below this value (0..255)
+  int th_occ = 240;       ///< a voxel is occupied above this value (0..255)
+  /// Unknown / initial value (0..255). OctoMap starts every voxel at p = 0.5,
+  /// so only 128 (the thesis start value) is accepted.
+  int start_value = 128;
+  double prob_hit = 0.7;      ///< inverse sensor model: P(occupied | hit)
+  double prob_miss = 0.4;     ///< inverse sensor model: P(occupied | pass-through)
+  double clamp_min = 0.1192;  ///< log-odds clamping, lower probability
+  double clamp_max = 0.971;   ///< log-odds clamping, upper probability
+  double max_range_m = 7.0;   ///< beams are truncated here (endpoint not marked occupied)
+  /// Invalid (no-return) pixels clear free space along their ray up to this
+  /// range [m]; 0 disables. A no-return of a ToF camera usually means nothing
+  /// within max range, but also dark or specular surfaces, so the default is off.
+  double invalid_free_range_m = 0.0;
+  double start_box_x_m = 2.5;  ///< free box around the start pose: length [m]
+  double start_box_y_m = 2.5;  ///< free box: width [m]
+  double start_box_z_m = 0.5;  ///< free box: height above the floor [m]
+
+  void loadFromConfigFile(const mrpt::config::CConfigFileBase& c, const std::string& s) override;
+  void saveToConfigFile(mrpt::config::CConfigFileBase& c, const std::string& s) const override;
+  /// @brief Occupancy probability of a 0..255 value.
+  static double probOf(int value_0_255) { return value_0_255 / 255.0; }
+};
+
+/// @brief Counts of one insertion.
+struct InsertStats
+{
+  std::size_t rays = 0;          ///< pixels turned into rays (valid + clearing invalid ones)
+  std::size_t hits = 0;          ///< endpoints marked occupied
+  std::size_t invalid = 0;       ///< pixels without a return (0 or non-finite range)
+  std::size_t free_updates = 0;  ///< distinct voxels updated as free
+  std::size_t occ_updates = 0;   ///< distinct voxels updated as occupied
+};
+
+/// @brief Classification of a voxel by the thesis thresholds.
+enum class VoxelState
+{
+  Unknown,  ///< never observed, or between th_free and th_occ
+  Free,     ///< value < th_free
+  Occupied  ///< value > th_occ
+};
+
+/// @brief The occupancy map V. Our own ray insertion (insertScan) gathers the
+///        distinct free and occupied voxel keys of a whole camera image with
+///        a 3D DDA on Morton codes and a sorted key vector, then applies one
+///        Bayes update per voxel in a single depth-first walk of the tree that
+///        keeps inner nodes consistent and prunes like non-lazy OctoMap.
+///        insertScanStock does the same with stock OctoMap for comparison;
+///        both give identical voxel values.
+class OctoMapLayer
+{
+ public:
+  explicit OctoMapLayer(const OctoMapParams& params = {});
+  ~OctoMapLayer();
+  OctoMapLayer(OctoMapLayer&&) noexcept;
+  OctoMapLayer& operator=(OctoMapLayer&&) noexcept;
+
+  const OctoMapParams& params() const { return params_; }
+
+  /// @brief Marks the start box (start_box_*_m, centred on the robot, from
+  ///        the floor up) as free (clamped minimum log-odds). thesis 4.4.3
+  void setStartBoxFree(const mrpt::poses::CPose3D& T_world_robot);
+
+  /// @brief Inserts one depth image: each valid pixel is a ray from the
+  ///        camera origin (T_world_robot + obs.sensorPose) to its 3D point;
+  ///        points beyond max_range_m are truncated (free up to max range, no hit).
+  ///        Works for range_is_depth true or false. Inner nodes are updated.
+  ///        Invalid pixels clear free space up to min(invalid_free_range_m,
+  ///        max_range_m) when invalid_free_range_m > 0. A voxel both passed
+  ///        and hit in one image is updated once, as occupied (OctoMap's rule).
+  InsertStats insertScan(const mrpt::obs::CObservation3DRangeScan& obs,
+                         const mrpt::poses::CPose3D& T_world_robot);
+
+  /// @brief The same rays inserted the stock way: the body of
+  ///        octomap::OcTree::insertPointCloud (discretize = false,
+  ///        lazy_eval = false), i.e. computeUpdate + updateNode per key, with
+  ///        the invalid-pixel rays joining the same key sets. The reference
+  ///        our insertion is timed and checked against.
+  InsertStats insertScanStock(const mrpt::obs::CObservation3DRangeScan& obs,
+                              const mrpt::poses::CPose3D& T_world_robot);
+
+  /// @brief State of the voxel containing world point p.
+  VoxelState stateAt(const Eigen::Vector3d& p) const;
+
+  /// @brief Centres of all leaf voxels (expanded to l_res) whose value > th_occ.
+  std::vector<Eigen::Vector3d> occupiedVoxelCenters() const;
+
+  /// @brief Number of leaf nodes and memory usage of the tree [bytes].
+  std::size_t numLeafNodes() const;
+  std::size_t memoryUsage() const;
+
+  /// @brief Writes a .bt (binary, max-likelihood) file that bt2vrml and octovis load.
+  ///        The format keeps only occupied (value > th_occ) and free leaves:
+  ///        observed voxels between th_free and th_occ are written as free.
+  ///        The tree itself is not changed (OcTree::writeBinaryConst).
+  /// @throws std::runtime_error naming the path when it cannot be written.
+  void writeBinary(const std::string& path) const;
+
+  const octomap::OcTree& tree() const;
+  octomap::OcTree& tree();
+
+ private:
+  OctoMapParams params_;
+  std::unique_ptr<octomap::OcTree> tree_;
+};
+
+/// @brief Per-pixel ray of a depth image: world-frame camera origin and, for
+///        every pixel, the world-frame endpoint (valid pixels) or unit
+///        direction (invalid pixels).
+struct PixelRays
+{
+  Eigen::Vector3d origin_world;
+  std::vector<Eigen::Vector3d> endpoints_world;     ///< valid pixels
+  std::vector<Eigen::Vector3d> invalid_dirs_world;  ///< unit directions of invalid pixels
+};
+
+/// @brief Unprojects a depth image into world-frame rays using MRPT's
+///        per-pixel LUT (so range_is_depth true and false both work).
+PixelRays unprojectRays(const mrpt::obs::CObservation3DRangeScan& obs,
+                        const mrpt::poses::CPose3D& T_world_robot);
+
+}  // namespace voxplore::mapping

@@ -1,0 +1,337 @@
+/* voxplore — the 3D occupancy map V (thesis 4.4.3). */
+#include <mrpt/core/exceptions.h>
+#include <octomap/OcTree.h>
+#include <voxplore/common/config.h>
+#include <voxplore/mapping/OctoMapLayer.h>
+
+#include <cmath>
+#include <limits>
+#include <stdexcept>
+#include <tuple>
+#include <utility>
+
+#include "octomap_insert.h"
+
+namespace voxplore::mapping
+{
+namespace
+{
+octomap::point3d toPoint3d(const Eigen::Vector3d& p)
+{
+  return {static_cast<float>(p.x()), static_cast<float>(p.y()), static_cast<float>(p.z())};
+}
+
+/// Range up to which invalid pixels clear free space (0: they do not).
+double clearingRange(const OctoMapParams& p)
+{
+  return std::min(p.invalid_free_range_m, p.max_range_m);
+}
+
+/// Far points along the invalid pixels' directions: twice the clearing range,
+/// so that clipRay / computeUpdate truncate them at exactly that range.
+octomap::Pointcloud clearingTargets(const PixelRays& rays, double range_m)
+{
+  octomap::Pointcloud out;
+  out.reserve(rays.invalid_dirs_world.size());
+  const octomap::point3d origin = toPoint3d(rays.origin_world);
+  for (const auto& d : rays.invalid_dirs_world)
+    out.push_back(origin + toPoint3d(d) * static_cast<float>(2.0 * range_m));
+  return out;
+}
+
+octomap::Pointcloud toPointcloud(const std::vector<Eigen::Vector3d>& pts)
+{
+  octomap::Pointcloud out;
+  out.reserve(pts.size());
+  for (const auto& p : pts) out.push_back(toPoint3d(p));
+  return out;
+}
+
+/// Counts of a scan known before the tree is touched.
+InsertStats rayCounts(const octomap::OcTree& tree, const PixelRays& rays,
+                      const octomap::Pointcloud& hits, double max_range_m, bool clearing)
+{
+  InsertStats st;
+  st.invalid = rays.invalid_dirs_world.size();
+  st.rays = rays.endpoints_world.size() + (clearing ? st.invalid : 0);
+  const octomap::point3d origin = toPoint3d(rays.origin_world);
+  octomap::OcTreeKey key;
+  for (const auto& p : hits)
+  {
+    octomap::point3d end;
+    st.hits += detail::clipRay(origin, p, max_range_m, end) && tree.coordToKeyChecked(p, key);
+  }
+  return st;
+}
+}  // namespace
+
+// ---------------------------------------------------------------- parameters
+
+void OctoMapParams::loadFromConfigFile(const mrpt::config::CConfigFileBase& c, const std::string& s)
+{
+  MRPT_LOAD_CONFIG_VAR(l_res_m, double, c, s);
+  MRPT_LOAD_CONFIG_VAR(th_free, int, c, s);
+  MRPT_LOAD_CONFIG_VAR(th_occ, int, c, s);
+  MRPT_LOAD_CONFIG_VAR(start_value, int, c, s);
+  MRPT_LOAD_CONFIG_VAR(prob_hit, double, c, s);
+  MRPT_LOAD_CONFIG_VAR(prob_miss, double, c, s);
+  MRPT_LOAD_CONFIG_VAR(clamp_min, double, c, s);
+  MRPT_LOAD_CONFIG_VAR(clamp_max, double, c, s);
+  MRPT_LOAD_CONFIG_VAR(max_range_m, double, c, s);
+  MRPT_LOAD_CONFIG_VAR(invalid_free_range_m, double, c, s);
+  MRPT_LOAD_CONFIG_VAR(start_box_x_m, double, c, s);
+  MRPT_LOAD_CONFIG_VAR(start_box_y_m, double, c, s);
+  MRPT_LOAD_CONFIG_VAR(start_box_z_m, double, c, s);
+  using common::requireValid;
+  requireValid(l_res_m > 0, c, s, "l_res_m", "must be > 0");
+  requireValid(start_value == 128, c, s, "start_value",
+               "OctoMap starts every voxel at p = 0.5, i.e. 128 on the 0..255 scale; "
+               "other priors are not supported");
+  requireValid(th_free >= 0 && th_free < start_value, c, s, "th_free",
+               "need 0 <= th_free < start_value");
+  requireValid(th_occ > start_value && th_occ <= 255, c, s, "th_occ",
+               "need start_value < th_occ <= 255");
+  requireValid(prob_hit > 0.5 && prob_hit < 1, c, s, "prob_hit", "need 0.5 < prob_hit < 1");
+  requireValid(prob_miss > 0 && prob_miss < 0.5, c, s, "prob_miss", "need 0 < prob_miss < 0.5");
+  requireValid(clamp_min > 0 && clamp_min < probOf(th_free), c, s, "clamp_min",
+               "need 0 < clamp_min < th_free / 255 (else no voxel can ever become free)");
+  requireValid(clamp_max > clamp_min && clamp_max < 1 && clamp_max > probOf(th_occ), c, s,
+               "clamp_max",
+               "need th_occ / 255 < clamp_max < 1 (else no voxel can ever become occupied)");
+  requireValid(max_range_m > 0, c, s, "max_range_m", "must be > 0");
+  requireValid(invalid_free_range_m >= 0, c, s, "invalid_free_range_m", "must be >= 0");
+  requireValid(start_box_x_m >= 0, c, s, "start_box_x_m", "must be >= 0");
+  requireValid(start_box_y_m >= 0, c, s, "start_box_y_m", "must be >= 0");
+  requireValid(start_box_z_m >= 0, c, s, "start_box_z_m", "must be >= 0");
+}
+
+void OctoMapParams::saveToConfigFile(mrpt::config::CConfigFileBase& c, const std::string& s) const
+{
+  MRPT_SAVE_CONFIG_VAR(l_res_m, c, s);
+  MRPT_SAVE_CONFIG_VAR(th_free, c, s);
+  MRPT_SAVE_CONFIG_VAR(th_occ, c, s);
+  MRPT_SAVE_CONFIG_VAR(start_value, c, s);
+  MRPT_SAVE_CONFIG_VAR(prob_hit, c, s);
+  MRPT_SAVE_CONFIG_VAR(prob_miss, c, s);
+  MRPT_SAVE_CONFIG_VAR(clamp_min, c, s);
+  MRPT_SAVE_CONFIG_VAR(clamp_max, c, s);
+  MRPT_SAVE_CONFIG_VAR(max_range_m, c, s);
+  MRPT_SAVE_CONFIG_VAR(invalid_free_range_m, c, s);
+  MRPT_SAVE_CONFIG_VAR(start_box_x_m, c, s);
+  MRPT_SAVE_CONFIG_VAR(start_box_y_m, c, s);
+  MRPT_SAVE_CONFIG_VAR(start_box_z_m, c, s);
+}
+
+// ------------------------------------------------------------------- the map
+
+OctoMapLayer::OctoMapLayer(const OctoMapParams& params) : params_(params)
+{
+  ASSERTMSG_(params_.l_res_m > 0, "OctoMapParams::l_res_m must be > 0");
+  ASSERTMSG_(params_.th_free < params_.th_occ, "OctoMapParams: need th_free < th_occ");
+  auto tree = std::make_unique<detail::LayerTree>(params_.l_res_m);
+  // Thesis 0..255 scale: isNodeOccupied() means "value > th_occ" (thesis 4.4.3).
+  tree->setOccupancyThres(OctoMapParams::probOf(params_.th_occ));
+  tree->setProbHit(params_.prob_hit);
+  tree->setProbMiss(params_.prob_miss);
+  tree->setClampingThresMin(params_.clamp_min);
+  tree->setClampingThresMax(params_.clamp_max);
+  tree_ = std::move(tree);
+}
+
+OctoMapLayer::~OctoMapLayer() = default;
+OctoMapLayer::OctoMapLayer(OctoMapLayer&&) noexcept = default;
+OctoMapLayer& OctoMapLayer::operator=(OctoMapLayer&&) noexcept = default;
+
+const octomap::OcTree& OctoMapLayer::tree() const
+{
+  return *tree_;
+}
+octomap::OcTree& OctoMapLayer::tree()
+{
+  return *tree_;
+}
+
+std::size_t OctoMapLayer::numLeafNodes() const
+{
+  return tree_->getNumLeafNodes();
+}
+std::size_t OctoMapLayer::memoryUsage() const
+{
+  return tree_->memoryUsage();
+}
+
+InsertStats OctoMapLayer::insertScan(const mrpt::obs::CObservation3DRangeScan& obs,
+                                     const mrpt::poses::CPose3D& T_world_robot)
+{
+  const PixelRays rays = unprojectRays(obs, T_world_robot);
+  const octomap::point3d origin = toPoint3d(rays.origin_world);
+  const double clear_range = clearingRange(params_);
+  detail::RayKeyCollector collector(*tree_);
+  InsertStats st;
+  st.invalid = rays.invalid_dirs_world.size();
+  st.rays = rays.endpoints_world.size();
+  for (const auto& p_world : rays.endpoints_world)
+  {
+    octomap::point3d end;
+    const bool hit = detail::clipRay(origin, toPoint3d(p_world), params_.max_range_m, end);
+    octomap::OcTreeKey key;
+    st.hits += hit && tree_->coordToKeyChecked(end, key);
+    collector.addRay(origin, end, hit);
+  }
+  if (clear_range > 0)
+  {
+    st.rays += st.invalid;
+    for (const auto& far : clearingTargets(rays, clear_range))
+    {
+      octomap::point3d end;
+      detail::clipRay(origin, far, clear_range, end);
+      collector.addRay(origin, end, false);
+    }
+  }
+  std::vector<std::uint64_t> entries = collector.release();
+  std::tie(st.free_updates, st.occ_updates) = detail::sortUnique(entries);
+  detail::applyBatch(static_cast<detail::LayerTree&>(*tree_), entries);
+  return st;
+}
+
+InsertStats OctoMapLayer::insertScanStock(const mrpt::obs::CObservation3DRangeScan& obs,
+                                          const mrpt::poses::CPose3D& T_world_robot)
+{
+  const PixelRays rays = unprojectRays(obs, T_world_robot);
+  const octomap::point3d origin = toPoint3d(rays.origin_world);
+  const double clear_range = clearingRange(params_);
+  const octomap::Pointcloud cloud = toPointcloud(rays.endpoints_world);
+  InsertStats st = rayCounts(*tree_, rays, cloud, params_.max_range_m, clear_range > 0);
+
+  // The body of OcTree::insertPointCloud(cloud, origin, max_range_m,
+  // lazy_eval = false, discretize = false), inlined so that the rays of
+  // invalid pixels (truncated at clear_range, no endpoint) join the same key
+  // sets and the counts are known.
+  octomap::KeySet free_cells, occupied_cells;
+  tree_->computeUpdate(cloud, origin, free_cells, occupied_cells, params_.max_range_m);
+  if (clear_range > 0)
+  {
+    octomap::KeySet clear_free, clear_occ;  // clear_occ stays empty: all rays truncated
+    tree_->computeUpdate(clearingTargets(rays, clear_range), origin, clear_free, clear_occ,
+                         clear_range);
+    for (const auto& k : clear_free)
+      if (occupied_cells.count(k) == 0) free_cells.insert(k);
+  }
+  for (const auto& k : free_cells) tree_->updateNode(k, false, false);
+  for (const auto& k : occupied_cells) tree_->updateNode(k, true, false);
+  st.free_updates = free_cells.size();
+  st.occ_updates = occupied_cells.size();
+  return st;
+}
+
+void OctoMapLayer::setStartBoxFree(const mrpt::poses::CPose3D& T_world_robot)
+{
+  const double hx = params_.start_box_x_m / 2, hy = params_.start_box_y_m / 2;
+  const double hz = params_.start_box_z_m;
+  if (hx <= 0 || hy <= 0 || hz <= 0) return;
+  // World-frame bounding box of the (rotated) box, then every voxel centre in it.
+  Eigen::Vector3d lo = Eigen::Vector3d::Constant(std::numeric_limits<double>::max());
+  Eigen::Vector3d hi = -lo;
+  for (int i = 0; i < 8; i++)
+  {
+    mrpt::math::TPoint3D w;
+    T_world_robot.composePoint({i & 1 ? hx : -hx, i & 2 ? hy : -hy, i & 4 ? hz : 0.0}, w);
+    lo = lo.cwiseMin(Eigen::Vector3d(w.x, w.y, w.z));
+    hi = hi.cwiseMax(Eigen::Vector3d(w.x, w.y, w.z));
+  }
+  octomap::OcTreeKey kmin, kmax;
+  if (!tree_->coordToKeyChecked(toPoint3d(lo), kmin) ||
+      !tree_->coordToKeyChecked(toPoint3d(hi), kmax))
+    THROW_EXCEPTION("OctoMapLayer::setStartBoxFree: start box outside the octree's range");
+  const float free_log_odds = tree_->getClampingThresMinLog();
+  constexpr double kEps = 1e-9;
+  for (unsigned kx = kmin[0]; kx <= kmax[0]; kx++)
+    for (unsigned ky = kmin[1]; ky <= kmax[1]; ky++)
+      for (unsigned kz = kmin[2]; kz <= kmax[2]; kz++)
+      {
+        const octomap::OcTreeKey key(kx, ky, kz);
+        const mrpt::math::TPoint3D c(tree_->keyToCoord(key[0]), tree_->keyToCoord(key[1]),
+                                     tree_->keyToCoord(key[2]));
+        mrpt::math::TPoint3D l;
+        T_world_robot.inverseComposePoint(c, l);
+        if (std::abs(l.x) <= hx + kEps && std::abs(l.y) <= hy + kEps && l.z >= -kEps &&
+            l.z <= hz + kEps)
+          tree_->setNodeValue(key, free_log_odds, false);  // non-lazy: inner nodes kept current
+      }
+}
+
+VoxelState OctoMapLayer::stateAt(const Eigen::Vector3d& p) const
+{
+  const octomap::OcTreeNode* node = tree_->search(p.x(), p.y(), p.z());
+  if (node == nullptr) return VoxelState::Unknown;
+  const double prob = node->getOccupancy();
+  if (prob < OctoMapParams::probOf(params_.th_free)) return VoxelState::Free;
+  if (prob > OctoMapParams::probOf(params_.th_occ)) return VoxelState::Occupied;
+  return VoxelState::Unknown;
+}
+
+std::vector<Eigen::Vector3d> OctoMapLayer::occupiedVoxelCenters() const
+{
+  std::vector<Eigen::Vector3d> out;
+  const double p_occ = OctoMapParams::probOf(params_.th_occ);
+  const unsigned max_depth = tree_->getTreeDepth();
+  for (auto it = tree_->begin_leafs(), end = tree_->end_leafs(); it != end; ++it)
+  {
+    if (it->getOccupancy() <= p_occ) continue;
+    const unsigned side = 1U << (max_depth - it.getDepth());  // l_res voxels per edge
+    const octomap::OcTreeKey k0 = it.getIndexKey();           // lowest corner voxel
+    for (unsigned i = 0; i < side; i++)
+      for (unsigned j = 0; j < side; j++)
+        for (unsigned k = 0; k < side; k++)
+          out.emplace_back(tree_->keyToCoord(k0[0] + i), tree_->keyToCoord(k0[1] + j),
+                           tree_->keyToCoord(k0[2] + k));
+  }
+  return out;
+}
+
+void OctoMapLayer::writeBinary(const std::string& path) const
+{
+  // writeBinaryConst: the live tree keeps its log-odds (writeBinary() would
+  // convert it to maximum likelihood first). Leaves above th_occ are written
+  // occupied, every other known leaf free.
+  if (!tree_->writeBinaryConst(path))
+    throw std::runtime_error("OctoMapLayer::writeBinary: cannot write '" + path + "'");
+}
+
+// ------------------------------------------------------------ unprojection
+
+PixelRays unprojectRays(const mrpt::obs::CObservation3DRangeScan& obs,
+                        const mrpt::poses::CPose3D& T_world_robot)
+{
+  ASSERTMSG_(obs.hasRangeImage,
+             "unprojectRays: observation '" + obs.sensorLabel + "' has no range image");
+  const int W = static_cast<int>(obs.rangeImage.cols()),
+            H = static_cast<int>(obs.rangeImage.rows());
+  const auto& lut = obs.get_unproj_lut();  // per pixel, unit range (or depth), sensor frame
+  ASSERTMSG_(lut.Kxs.size() == static_cast<std::size_t>(W) * H,
+             "unprojectRays: camera intrinsics of '" + obs.sensorLabel +
+                 "' do not match its range image size");
+  const mrpt::poses::CPose3D T_world_camera = T_world_robot + obs.sensorPose;
+  const Eigen::Matrix3d R = T_world_camera.getRotationMatrix().asEigen();
+  const Eigen::Vector3d t(T_world_camera.x(), T_world_camera.y(), T_world_camera.z());
+
+  PixelRays rays;
+  rays.origin_world = t;
+  rays.endpoints_world.reserve(static_cast<std::size_t>(W) * H);
+  for (int r = 0, idx = 0; r < H; r++)
+    for (int c = 0; c < W; c++, idx++)
+    {
+      const float D = obs.rangeImage(r, c) * obs.rangeUnits;  // as range2XYZ_LUT
+      const Eigen::Vector3d k(lut.Kxs[idx], lut.Kys[idx], lut.Kzs[idx]);
+      if (D == 0.0f)
+      {
+        rays.invalid_dirs_world.push_back(R * k.normalized());
+        continue;
+      }
+      const Eigen::Vector3d local(lut.Kxs[idx] * D, lut.Kys[idx] * D, lut.Kzs[idx] * D);
+      rays.endpoints_world.push_back(R * local + t);
+    }
+  return rays;
+}
+
+}  // namespace voxplore::mapping

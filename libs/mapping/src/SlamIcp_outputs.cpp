@@ -1,0 +1,66 @@
+// SlamIcp exports: map.bt, map.simplemap, metaview.ply, trajectory_est.tum, stops.csv.
+#include <mrpt/io/CFileGZOutputStream.h>
+#include <mrpt/serialization/CArchive.h>
+#include <voxplore/common/trajectory_io.h>
+#include <voxplore/mapping/SlamIcp.h>
+
+#include <filesystem>
+#include <fstream>
+#include <iomanip>
+
+namespace voxplore::mapping
+{
+void writeStopsCsv(const std::vector<StopReport>& reports, const std::string& path)
+{
+  std::ofstream f(path);
+  if (!f) throw std::runtime_error("cannot write '" + path + "'");
+  f << "stop,timestamp,odo_x,odo_y,odo_yaw_deg,pred_x,pred_y,pred_yaw_deg,x,y,yaw_deg,"
+       "icp_accepted,flagged,icp_goodness,icp_iterations,icp_degenerate,icp_info_ratio,"
+       "icp_reason,cloud_points,invalid_pixels,metaview_added,metaview_size,octomap_rays,"
+       "t_cloud_ms,t_icp_ms,t_metaview_ms,t_octomap_ms,t_total_ms\n";
+  f << std::fixed;
+  for (const auto& r : reports)
+  {
+    std::string reason = r.icp.reason;
+    for (auto& ch : reason)
+      if (ch == ',' || ch == '"') ch = ';';
+    f << r.index << "," << std::setprecision(6) << mrpt::Clock::toDouble(r.timestamp) << ","
+      << std::setprecision(5) << r.odometry.x() << "," << r.odometry.y() << ","
+      << mrpt::RAD2DEG(r.odometry.phi()) << "," << r.predicted.x() << "," << r.predicted.y()
+      << "," << mrpt::RAD2DEG(r.predicted.phi()) << "," << r.pose.x() << "," << r.pose.y() << ","
+      << mrpt::RAD2DEG(r.pose.phi()) << "," << r.icp.accepted << "," << r.flagged << ","
+      << std::setprecision(4) << r.icp.goodness << "," << r.icp.iterations << ","
+      << r.icp.degenerate << "," << r.icp.info_ratio << "," << reason << "," << r.cloud_points
+      << "," << r.invalid_pixels << "," << r.metaview_added << "," << r.metaview_size << ","
+      << r.octomap.rays << "," << std::setprecision(3) << r.t_cloud_ms << "," << r.t_icp_ms
+      << "," << r.t_metaview_ms << "," << r.t_octomap_ms << "," << r.t_total_ms << "\n";
+  }
+  if (!f) throw std::runtime_error("write failed: '" + path + "'");
+}
+
+void SlamIcp::saveOutputs(const std::string& dir) const
+{
+  namespace fs = std::filesystem;
+  const auto p = [&](const char* name) { return (fs::path(dir) / name).string(); };
+
+  octomap_.writeBinary(p("map.bt"));
+
+  {
+    mrpt::io::CFileGZOutputStream out;
+    if (!out.open(p("map.simplemap"))) throw std::runtime_error("cannot write '" + p("map.simplemap") + "'");
+    auto arch = mrpt::serialization::archiveFrom(out);
+    arch << simplemap_;
+  }
+
+  if (!metaview_.points().saveToPlyFile(p("metaview.ply"), true))
+    throw std::runtime_error("cannot write '" + p("metaview.ply") + "'");
+
+  {
+    common::TumWriter tum(p("trajectory_est.tum"));
+    for (const auto& r : reports_)
+      tum.write(mrpt::Clock::toDouble(r.timestamp), mrpt::poses::CPose3D(r.pose));
+  }
+  writeStopsCsv(reports_, p("stops.csv"));
+}
+
+}  // namespace voxplore::mapping

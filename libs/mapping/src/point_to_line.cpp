@@ -1,0 +1,156 @@
+// Point-to-line planar ICP refinement. Our own code because MRPT's CICP is
+// point-to-point only and converges slowly on sampled surfaces (measured:
+// see PlanarIcp.h); the normals also give the information matrix used to
+// detect degenerate (corridor) directions.
+#include "point_to_line.h"
+
+#include <Eigen/Cholesky>
+#include <Eigen/Eigenvalues>
+#include <cmath>
+
+namespace voxplore::mapping::detail
+{
+const LocalLine& LineNormals::lineAt(std::size_t idx)
+{
+  auto it = cache_.find(idx);
+  if (it != cache_.end()) return it->second;
+  const auto& xs = ref_.getPointsBufferRef_x();
+  const auto& ys = ref_.getPointsBufferRef_y();
+  std::vector<nanoflann::ResultItem<size_t, float>> nn;
+  ref_.kdTreeRadiusSearch2D(xs[idx], ys[idx], static_cast<float>(radius_m_ * radius_m_), nn);
+  LocalLine line;
+  if (nn.size() >= 5)
+  {
+    Eigen::Vector2d mean = Eigen::Vector2d::Zero();
+    for (const auto& n : nn) mean += Eigen::Vector2d(xs[n.first], ys[n.first]);
+    mean /= double(nn.size());
+    Eigen::Matrix2d C = Eigen::Matrix2d::Zero();
+    for (const auto& n : nn)
+    {
+      const Eigen::Vector2d d = Eigen::Vector2d(xs[n.first], ys[n.first]) - mean;
+      C += d * d.transpose();
+    }
+    Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d> es(C);
+    // Line-like: the spread across is well below the spread along.
+    line.valid = es.eigenvalues()(0) < 0.05 * es.eigenvalues()(1);
+    line.normal = es.eigenvectors().col(0);
+    line.centroid = mean;
+  }
+  return cache_.emplace(idx, line).first->second;
+}
+
+namespace
+{
+struct Accum
+{
+  Eigen::Matrix3d H = Eigen::Matrix3d::Zero();  // weighted
+  Eigen::Vector3d b = Eigen::Vector3d::Zero();
+  Eigen::Matrix3d info = Eigen::Matrix3d::Zero();  // unweighted J^T J
+  std::size_t pairs = 0;  // points with a reference point within the radius
+  double sum_r2 = 0;
+};
+
+Accum linearise(
+    const mrpt::maps::CPointsMap& ref, const mrpt::maps::CPointsMap& cloud, const mrpt::poses::CPose2D& T,
+    double radius, std::size_t stride, double huber, double point_weight, LineNormals& normals)
+{
+  Accum a;
+  const auto& xs = cloud.getPointsBufferRef_x();
+  const auto& ys = cloud.getPointsBufferRef_y();
+  const auto& rx = ref.getPointsBufferRef_x();
+  const auto& ry = ref.getPointsBufferRef_y();
+  const double c = std::cos(T.phi()), s = std::sin(T.phi());
+  const float r2max = static_cast<float>(radius * radius);
+  for (std::size_t i = 0; i < xs.size(); i += stride)
+  {
+    const double px = T.x() + c * xs[i] - s * ys[i], py = T.y() + s * xs[i] + c * ys[i];
+    float d2;
+    const std::size_t m = ref.kdTreeClosestPoint2D(static_cast<float>(px), static_cast<float>(py), d2);
+    if (d2 > r2max) continue;
+    const LocalLine& line = normals.lineAt(m);
+    // d p / d yaw = R' q
+    const double dpx = -s * xs[i] - c * ys[i], dpy = c * xs[i] - s * ys[i];
+    if (line.valid)
+    {
+      // Point-to-line residual against the local wall/surface line fit.
+      const Eigen::Vector2d& n = line.normal;
+      const double r = n.x() * (px - line.centroid.x()) + n.y() * (py - line.centroid.y());
+      const Eigen::Vector3d J(n.x(), n.y(), n.x() * dpx + n.y() * dpy);
+      const double w = std::abs(r) <= huber ? 1.0 : huber / std::abs(r);
+      a.H += w * J * J.transpose();
+      a.b += w * J * r;
+      a.info += J * J.transpose();
+      a.sum_r2 += r * r;
+    }
+    else
+    {
+      // Not line-like (a table leg, a corner): point-to-point, two residuals.
+      const Eigen::Vector2d r(px - rx[m], py - ry[m]);
+      Eigen::Matrix<double, 2, 3> J;
+      J << 1, 0, dpx, 0, 1, dpy;
+      const double rn = r.norm();
+      const double w = point_weight * (rn <= huber ? 1.0 : huber / rn);
+      a.H += w * J.transpose() * J;
+      a.b += w * J.transpose() * r;
+      a.info += J.transpose() * J;
+      a.sum_r2 += r.squaredNorm();
+    }
+    a.pairs++;
+  }
+  return a;
+}
+}  // namespace
+
+RefineResult refinePointToLine(
+    const mrpt::maps::CPointsMap& ref, const mrpt::maps::CPointsMap& cloud,
+    const mrpt::poses::CPose2D& start, double radius_start_m, const IcpParams& p)
+{
+  RefineResult res;
+  res.pose = start;
+  LineNormals normals(ref, p.normal_radius_m);
+  const std::size_t stride =
+      std::max<std::size_t>(1, cloud.size() / static_cast<std::size_t>(std::max(1, p.max_points)));
+  res.used = (cloud.size() + stride - 1) / stride;
+  double radius = std::max(radius_start_m, p.d_max_final_m);
+  Accum a;
+  for (int it = 0; it < p.max_iterations; it++)
+  {
+    a = linearise(ref, cloud, res.pose, radius, stride, p.huber_m, p.point_weight, normals);
+    res.iterations++;
+    if (a.pairs < 3) break;
+    // Degenerate translation directions get no update (solution remapping).
+    Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d> es(a.info.topLeftCorner<2, 2>());
+    const double lmax = es.eigenvalues()(1);
+    res.info_ratio = lmax > 0 ? es.eigenvalues()(0) / lmax : 0.0;
+    res.degenerate = p.degeneracy_check && res.info_ratio < p.degeneracy_ratio;
+    res.degenerate_dir = es.eigenvectors().col(0);
+    Eigen::Matrix3d H = a.H;
+    H.diagonal().array() += 1e-9 * (H.trace() + 1.0);
+    Eigen::Vector3d delta = -H.ldlt().solve(a.b);
+    if (res.degenerate)
+    {
+      const Eigen::Vector2d v = res.degenerate_dir;
+      delta.head<2>() -= v * v.dot(delta.head<2>());
+    }
+    res.pose = mrpt::poses::CPose2D(res.pose.x() + delta.x(), res.pose.y() + delta.y(),
+                                    res.pose.phi() + delta.z());
+    const bool converged = delta.head<2>().norm() < 2e-4 && std::abs(delta.z()) < 5e-5;
+    if (converged)
+    {
+      if (radius <= p.d_max_final_m) break;
+      radius = std::max(p.d_max_final_m, radius * p.alfa);
+    }
+  }
+  a = linearise(ref, cloud, res.pose, p.d_max_final_m, stride, p.huber_m, p.point_weight, normals);
+  res.information = a.info;
+  res.pairs = a.pairs;
+  res.rms_m = a.pairs ? std::sqrt(a.sum_r2 / double(a.pairs)) : 0.0;
+  Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d> es(a.info.topLeftCorner<2, 2>());
+  const double lmax = es.eigenvalues()(1);
+  res.info_ratio = lmax > 0 ? es.eigenvalues()(0) / lmax : 0.0;
+  res.degenerate = p.degeneracy_check && res.info_ratio < p.degeneracy_ratio;
+  res.degenerate_dir = es.eigenvectors().col(0);
+  return res;
+}
+
+}  // namespace voxplore::mapping::detail

@@ -1,0 +1,58 @@
+/* voxplore — stage 2 of the planar ICP: point-to-line Gauss-Newton (point-to-point
+ * where the metaview is not line-like) (private header). */
+#pragma once
+
+#include <mrpt/maps/CPointsMap.h>
+#include <mrpt/poses/CPose2D.h>
+#include <voxplore/mapping/PlanarIcp.h>
+
+#include <Eigen/Core>
+#include <unordered_map>
+
+namespace voxplore::mapping::detail
+{
+/// @brief A local line fitted to the reference points around one point.
+struct LocalLine
+{
+  Eigen::Vector2d normal{0, 0};    ///< unit normal
+  Eigen::Vector2d centroid{0, 0};  ///< mean of the neighbours: averages the range noise
+  bool valid = false;              ///< false: the neighbourhood is not line-like
+};
+
+/// @brief Lazily fitted local lines of reference points (2D PCA of the
+///        neighbours within a radius); cached per point index.
+class LineNormals
+{
+ public:
+  LineNormals(const mrpt::maps::CPointsMap& ref, double radius_m) : ref_(ref), radius_m_(radius_m) {}
+  const LocalLine& lineAt(std::size_t idx);
+
+ private:
+  const mrpt::maps::CPointsMap& ref_;
+  double radius_m_;
+  std::unordered_map<std::size_t, LocalLine> cache_;
+};
+
+/// @brief Result of the refinement.
+struct RefineResult
+{
+  mrpt::poses::CPose2D pose;
+  Eigen::Matrix3d information = Eigen::Matrix3d::Zero();  ///< sum of J^T J at the solution (x, y, yaw)
+  std::size_t used = 0;    ///< cloud points tried
+  std::size_t pairs = 0;   ///< of them paired within the final radius
+  unsigned iterations = 0;
+  double rms_m = 0;
+  bool degenerate = false;
+  Eigen::Vector2d degenerate_dir{0, 0};
+  double info_ratio = 0;
+};
+
+/// @brief Point-to-line Gauss-Newton from `start`, radius annealed from
+///        `radius_start_m` down to params.d_max_final_m. Along a translation
+///        direction with information below degeneracy_ratio (when enabled)
+///        no update is made (solution remapping).
+RefineResult refinePointToLine(
+    const mrpt::maps::CPointsMap& ref, const mrpt::maps::CPointsMap& cloud,
+    const mrpt::poses::CPose2D& start, double radius_start_m, const IcpParams& params);
+
+}  // namespace voxplore::mapping::detail

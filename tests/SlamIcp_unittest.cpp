@@ -1,0 +1,171 @@
+// SlamIcp building blocks: prediction (eq. 4.1/4.2), the robot cloud, metaview
+// point reduction, planar ICP recovering known transforms, degeneracy.
+#include <gtest/gtest.h>
+#include <mrpt/math/wrap2pi.h>
+#include <voxplore/mapping/Metaview.h>
+#include <voxplore/mapping/PlanarIcp.h>
+#include <voxplore/mapping/SlamIcp.h>
+#include <voxplore/mapping/robot_cloud.h>
+#include <voxplore/sim/DepthCameraRig.h>
+#include <voxplore/sim/RayCaster.h>
+#include <voxplore/sim/world_loading.h>
+
+#include <random>
+
+#include "test_worlds.h"
+
+using namespace voxplore;
+using mrpt::poses::CPose2D;
+using mrpt::poses::CPose3D;
+
+namespace
+{
+/// Noise-free robot-frame cloud of the 8-camera ring at `pose` in `world`.
+mapping::RobotCloud cloudAt(const sim::RayCaster& caster, const CPose2D& pose, bool noise = false)
+{
+  sim::DepthCameraRig rig{sim::CameraRigParams{}};
+  std::mt19937_64 rng(3);
+  const auto scans = rig.scan(caster, CPose3D(pose), mrpt::Clock::fromDouble(0), rng, noise);
+  return mapping::buildRobotCloud(scans, mapping::CloudParams{});
+}
+
+struct RoomFixture
+{
+  sim::World world =
+      sim::loadWorld(test::sourceDir() + "/simulated_worlds/dlr_test_room.world");
+  sim::RayCaster caster{world.mesh};
+};
+}  // namespace
+
+TEST(PosePrediction, FirstPoseIsOriginAndIncrementsCompose)
+{
+  // thesis 4.4.1: odometry starts at b0 != 0, the map starts at the origin.
+  const CPose2D odo0(3.0, -1.0, 0.7), odo1 = odo0 + CPose2D(1.0, 0.5, 0.2);
+  const CPose2D map0;  // first pose
+  const CPose2D map1 = mapping::predictPose(map0, odo0, odo1);
+  EXPECT_NEAR(map1.x(), 1.0, 1e-12);
+  EXPECT_NEAR(map1.y(), 0.5, 1e-12);
+  EXPECT_NEAR(map1.phi(), 0.2, 1e-12);
+  const CPose2D map2 = mapping::predictPose(CPose2D(2, 2, M_PI / 2), odo0, odo1);
+  EXPECT_NEAR(map2.x(), 2.0 - 0.5, 1e-12);
+  EXPECT_NEAR(map2.y(), 2.0 + 1.0, 1e-12);
+}
+
+TEST(RobotCloud, DropsFloorAndKeepsWalls)
+{
+  const auto world = test::boxRoom(10, 8, 3, CPose2D(4, 4, 0));
+  sim::RayCaster caster(world.mesh);
+  const auto c = cloudAt(caster, world.start);
+  EXPECT_EQ(c.cameras, 8u);
+  EXPECT_GT(c.dropped_floor, 1000u);
+  ASSERT_GT(c.points.size(), 1000u);
+  for (std::size_t i = 0; i < c.points.size(); i++)
+  {
+    float x, y, z;
+    c.points.getPoint(i, x, y, z);
+    EXPECT_GE(z, 0.10f);
+    // robot frame: walls at x = -4 / +6, y = -4 / +4
+    const double d = test::distanceToBoxRoom({x + 4.0, y + 4.0, z}, 10, 8, 3);
+    ASSERT_LT(d, 2e-3) << x << " " << y << " " << z;
+  }
+}
+
+TEST(Metaview, PointReductionKeepsPointsApartAndIgnoresRepeats)
+{
+  mrpt::maps::CSimplePointsMap cloud;
+  std::mt19937 rng(1);
+  std::uniform_real_distribution<float> u(0.f, 0.5f);
+  for (int i = 0; i < 3000; i++) cloud.insertPoint(u(rng), u(rng), u(rng) + 0.2f);
+  mapping::MetaviewParams p;
+  p.d_min_m = 0.03;
+  mapping::Metaview m(p);
+  const auto added = m.insert(cloud, CPose2D(1, 2, 0.3));
+  EXPECT_GT(added, 100u);
+  EXPECT_LT(added, 3000u);
+  const auto& pts = m.points();
+  for (std::size_t i = 0; i < pts.size(); i++)
+    for (std::size_t j = i + 1; j < pts.size(); j++)
+    {
+      float xi, yi, zi, xj, yj, zj;
+      pts.getPoint(i, xi, yi, zi);
+      pts.getPoint(j, xj, yj, zj);
+      const double d = std::sqrt((xi - xj) * (xi - xj) + (yi - yj) * (yi - yj) + (zi - zj) * (zi - zj));
+      ASSERT_GT(d, 0.03) << i << " " << j;
+    }
+  EXPECT_EQ(m.insert(cloud, CPose2D(1, 2, 0.3)), 0u) << "the same scan again adds nothing";
+  mapping::MetaviewParams p0;
+  p0.d_min_m = 0.0;
+  mapping::Metaview all(p0);
+  EXPECT_EQ(all.insert(cloud, CPose2D()), 3000u);
+}
+
+TEST(PlanarIcp, RecoversKnownTransformForwardAndInverse)
+{
+  RoomFixture f;
+  const CPose2D A = f.world.start;                      // (2, 4, 0)
+  const CPose2D B = A + CPose2D(0.4, -0.3, mrpt::DEG2RAD(8.0));
+  const auto cA = cloudAt(f.caster, A, true);
+  const auto cB = cloudAt(f.caster, B, true);
+  for (bool inverse : {false, true})
+  {
+    SCOPED_TRACE(inverse ? "inverse" : "forward");
+    const auto& ref = inverse ? cB : cA;
+    const auto& cur = inverse ? cA : cB;
+    const CPose2D truth = inverse ? (A - B) : (B - A);  // pose of cur in ref's frame
+    mapping::Metaview m;  // d_min 20 mm
+    m.insert(ref.points, CPose2D());
+    const CPose2D guess = truth + CPose2D(0.15, -0.12, mrpt::DEG2RAD(-4.0));
+    const auto r = mapping::alignPlanar(m.footprint(), cur.points, guess, mapping::IcpParams{});
+    EXPECT_TRUE(r.accepted) << r.reason;
+    EXPECT_FALSE(r.degenerate);
+    EXPECT_GT(r.goodness, 0.7);
+    EXPECT_NEAR(r.pose.x(), truth.x(), 0.01);
+    EXPECT_NEAR(r.pose.y(), truth.y(), 0.01);
+    EXPECT_NEAR(mrpt::math::wrapToPi(r.pose.phi() - truth.phi()), 0.0, mrpt::DEG2RAD(0.2));
+  }
+}
+
+TEST(PlanarIcp, RejectsImplausibleCorrectionsAndKeepsPrediction)
+{
+  RoomFixture f;
+  const auto c = cloudAt(f.caster, f.world.start);
+  mapping::Metaview m;
+  m.insert(c.points, CPose2D());
+  mapping::IcpParams p;
+  p.max_correction_xy_m = 0.05;
+  const CPose2D guess(0.2, 0.0, 0.0);  // truth is the origin: correction 0.2 m > 0.05 m
+  const auto r = mapping::alignPlanar(m.footprint(), c.points, guess, p);
+  EXPECT_FALSE(r.accepted);
+  EXPECT_NE(r.reason.find("correction"), std::string::npos) << r.reason;
+  EXPECT_EQ(r.pose, guess);
+  // Disabled ICP returns the prediction.
+  p.enabled = false;
+  EXPECT_EQ(mapping::alignPlanar(m.footprint(), c.points, guess, p).pose, guess);
+}
+
+TEST(PlanarIcp, CorridorIsDegenerateAlongItsAxisAndKeepsOdometryThere)
+{
+  const auto world = sim::loadWorld(test::sourceDir() + "/simulated_worlds/long_corridor.world",
+                                    CPose2D(12.0, 1.25, 0.0));
+  sim::RayCaster caster(world.mesh);
+  const auto cA = cloudAt(caster, CPose2D(12.0, 1.25, 0.0));
+  const auto cB = cloudAt(caster, CPose2D(12.5, 1.25, 0.0));
+  mapping::Metaview m;
+  m.insert(cA.points, CPose2D());
+  const CPose2D guess(0.5 + 0.08, 0.06, mrpt::DEG2RAD(1.0));  // odometry 8 cm long, 6 cm off-axis
+  const auto r = mapping::alignPlanar(m.footprint(), cB.points, guess, mapping::IcpParams{});
+  EXPECT_TRUE(r.degenerate) << "info ratio " << r.info_ratio;
+  EXPECT_NEAR(std::abs(r.degenerate_dir.x()), 1.0, 0.05);  // the corridor axis
+  EXPECT_TRUE(r.accepted) << r.reason;
+  EXPECT_NEAR(r.pose.x(), guess.x(), 0.005) << "odometry kept along the axis";
+  EXPECT_NEAR(r.pose.y(), 0.0, 0.01) << "corrected across the corridor";
+  EXPECT_NEAR(r.pose.phi(), 0.0, mrpt::DEG2RAD(0.3)) << "yaw corrected";
+  // In the furnished room nothing is degenerate.
+  RoomFixture f;
+  const auto c = cloudAt(f.caster, f.world.start);
+  mapping::Metaview mr;
+  mr.insert(c.points, CPose2D());
+  const auto rr = mapping::alignPlanar(mr.footprint(), c.points, CPose2D(0.05, 0, 0), mapping::IcpParams{});
+  EXPECT_FALSE(rr.degenerate) << rr.info_ratio;
+  EXPECT_GT(rr.info_ratio, 0.1);
+}
