@@ -7,6 +7,7 @@
 #include <mrpt/serialization/CArchive.h>
 #include <octomap/OcTree.h>
 #include <voxplore/apps/ReplayApp.h>
+#include <voxplore/apps/SimApp.h>
 #include <voxplore/common/trajectory_io.h>
 #include <voxplore/eval/map_accuracy.h>
 #include <voxplore/mapping/OctoMapLayer.h>
@@ -176,4 +177,42 @@ TEST(Replay, TruncatedRawlogKeepsTheMapSoFar)
   EXPECT_NE(msg.find("entry"), std::string::npos) << msg;
   EXPECT_TRUE(fs::is_regular_file(o.out_dir + "/map.bt")) << msg;
   EXPECT_GT(common::readTum(o.out_dir + "/trajectory_est.tum").size(), 10u);
+}
+
+TEST(Replay, LongCorridorDegeneracyKeepsOdometryAlongTheAxis)
+{
+  // Thesis fig. 5.8: in a featureless corridor ICP shortens the trajectory.
+  // With the degeneracy check the corridor axis is detected and odometry is
+  // trusted along it.
+  apps::SimOptions sim;
+  sim.world = test::sourceDir() + "/simulated_worlds/long_corridor.world";
+  sim.waypoints = test::sourceDir() + "/simulated_worlds/long_corridor_tour.txt";
+  sim.config = test::sourceDir() + "/config/sim.ini";
+  sim.out_dir = tmp("corridor_sim");
+  sim.seed = 1;
+  sim.quiet = true;
+  apps::SimApp{}.execute(sim);
+
+  auto o = replayOpts("corridor_on");
+  o.rawlog = sim.out_dir + "/run.rawlog";
+  const auto on = apps::ReplayApp{}.execute(o);
+  const auto cfg_off = tmp("corridor_off.ini");
+  std::ofstream(cfg_off) << "[icp]\ndegeneracy_check = false\n";
+  o.config = cfg_off;
+  o.out_dir = tmp("corridor_off");
+  const auto off = apps::ReplayApp{}.execute(o);
+  o.config.clear();
+  o.icp = false;
+  o.out_dir = tmp("corridor_odo");
+  const auto odo = apps::ReplayApp{}.execute(o);
+  std::cout << "[ corridor ] degeneracy check: " << on.degenerate << " of " << on.stops
+            << " stops degenerate, ATE " << on.ate_rmse_m << " m, final error " << on.final_xy_error_m
+            << " m; without: ATE " << off.ate_rmse_m << " m, final " << off.final_xy_error_m
+            << " m; odometry only: ATE " << odo.ate_rmse_m << " m, final " << odo.final_xy_error_m
+            << " m\n";
+  EXPECT_GT(on.degenerate, on.stops / 3);
+  EXPECT_EQ(off.degenerate, 0u);
+  EXPECT_LT(on.ate_rmse_m, 0.05);
+  EXPECT_LT(on.ate_rmse_m, 0.5 * off.ate_rmse_m);
+  EXPECT_LT(on.final_xy_error_m, off.final_xy_error_m);
 }

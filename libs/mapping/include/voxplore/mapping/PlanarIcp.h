@@ -29,7 +29,7 @@ struct IcpParams : public mrpt::config::CLoadableOptions
   double max_correction_yaw = mrpt::DEG2RAD(10.0);  ///< ... and this [rad] (ini: deg)
   bool degeneracy_check = true;    ///< detect directions the scene does not constrain
   double degeneracy_ratio = 0.03;  ///< smallest/largest translational information eigenvalue below this = degenerate
-  double normal_radius_m = 0.15;   ///< neighbourhood for the metaview normals of the information matrix [m]
+  double normal_radius_m = 0.25;   ///< neighbourhood of the metaview line fits (normals, information matrix) [m]
   int min_points = 50;             ///< fewer cloud points: no ICP (keep odometry, flag)
 
   void loadFromConfigFile(const mrpt::config::CConfigFileBase& c, const std::string& s) override;
