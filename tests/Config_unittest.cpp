@@ -27,7 +27,7 @@ std::string saved(const sim::SimConfig& c)
 
 std::string errorOf(const std::string& ini_text)
 {
-  const auto path = (fs::path(::testing::TempDir()) / "bad_config.ini").string();
+  const auto path = test::tempPath("bad_config.ini");
   std::ofstream(path) << ini_text;
   try
   {
@@ -142,7 +142,7 @@ TEST(Config, SlamIcpParamsRoundTrip)
 
 TEST(Config, SlamIcpParamsRejectBadValues)
 {
-  const auto path = (fs::path(::testing::TempDir()) / "bad_slam.ini").string();
+  const auto path = test::tempPath("bad_slam.ini");
   for (const char* text : {"[octomap]\nl_res_m = -0.05\n", "[octomap]\nth_free = 250\n",
                            "[icp]\nd_max_m = abc\n", "[metaview]\nd_mn_m = 0.02\n"})
   {

@@ -5,6 +5,8 @@
 #include <voxplore/sim/RayCaster.h>
 #include <voxplore/sim/ground_truth.h>
 
+#include "test_worlds.h"
+
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -283,7 +285,7 @@ TEST(TopView, WritesPngOfTheExpectedSize)
   w.mesh.addQuad({2, 2.61f, 0}, {3, 2.61f, 0}, {3, 2.61f, 2}, {2, 2.61f, 2});  // thin wall
   const RayCaster caster(w.mesh);
   const std::string path =
-      (std::filesystem::path(::testing::TempDir()) / "voxplore_topview_test.png").string();
+      voxplore::test::tempPath("voxplore_topview_test.png");
   std::remove(path.c_str());
   const std::vector<mrpt::poses::CPose2D> traj{{2, 0.5, 0}, {2.5, 0.5, 0}, {3.5, 1.0, 0}};
   writeTopView(w, caster, path, 20.0, traj);

@@ -19,7 +19,7 @@ namespace
 {
 std::string tempPath(const std::string& name)
 {
-  return (fs::path(::testing::TempDir()) / name).string();
+  return test::tempPath(name);
 }
 
 std::vector<sim::ScanStop> writeSmallRawlog(const std::string& path)

@@ -24,7 +24,7 @@ namespace fs = std::filesystem;
 
 namespace
 {
-std::string tmp(const std::string& name) { return (fs::path(::testing::TempDir()) / name).string(); }
+std::string tmp(const std::string& name) { return test::tempPath(name); }
 std::string recorded() { return test::sourceDir() + "/rawlogs/dlr_test_room/run.rawlog"; }
 
 apps::ReplayOptions replayOpts(const std::string& out)

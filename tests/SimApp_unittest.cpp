@@ -16,7 +16,7 @@ namespace fs = std::filesystem;
 
 namespace
 {
-std::string tmp(const std::string& name) { return (fs::path(::testing::TempDir()) / name).string(); }
+std::string tmp(const std::string& name) { return test::tempPath(name); }
 
 std::string writeFile(const std::string& name, const std::string& text)
 {

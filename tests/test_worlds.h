@@ -3,6 +3,8 @@
 
 #include <voxplore/sim/World.h>
 
+#include <unistd.h>
+
 #include <filesystem>
 #include <string>
 
@@ -12,6 +14,16 @@ namespace voxplore::test
 inline std::string sourceDir() { return VOXPLORE_SOURCE_DIR; }
 /// ../shared/worlds beside the checkout (may be missing).
 inline std::string sharedWorldsDir() { return VOXPLORE_SHARED_WORLDS_DIR; }
+
+/// @brief A path for a scratch file or directory, unique to this test
+///        process (ctest runs the tests of one binary as parallel processes).
+inline std::string tempPath(const std::string& name)
+{
+  const auto dir = std::filesystem::temp_directory_path() /
+                   ("voxplore_test_" + std::to_string(::getpid()));
+  std::filesystem::create_directories(dir);
+  return (dir / name).string();
+}
 
 /// @brief A closed box room [0, sx] x [0, sy] x [0, sz] built from six
 ///        inward-facing planes (two triangles each), robot start at `start`.

@@ -1,0 +1,442 @@
+// Exploration stages (thesis 4.5.1 - 4.5.4) on synthetic maps with known
+// answers: projection column states and alignment, projection against a
+// per-voxel search, collision space against brute force, frontiers of a room
+// with a doorway / a closed room / a gap narrower than the robot, the sample
+// space's line of sight, deterministic pose samples and the parameters.
+#include <gtest/gtest.h>
+#include <mrpt/config/CConfigFileMemory.h>
+#include <octomap/OcTree.h>
+#include <voxplore/exploration/stages.h>
+
+#include <algorithm>
+#include <cmath>
+#include <deque>
+#include <random>
+
+#include "exploration_test_maps.h"
+
+using namespace voxplore::exploration;
+using namespace voxplore::test;
+using mrpt::poses::CPose2D;
+
+namespace
+{
+constexpr double kRes = 0.1;
+
+/// Projection, collision space and frontiers in one go.
+struct Stages
+{
+  GroundGrid g;
+  CollisionSpace cs;
+  FrontierMap fm;
+};
+
+Stages runStages(const octomap::OcTree& t, double x, double y, const CollisionParams& cp = {})
+{
+  Stages s;
+  s.g = projectToGround(t, CPose2D(x, y, 0), ProjectionParams{});
+  s.cs = computeCollisionSpace(s.g, cp);
+  s.fm = findFrontiers(s.g, s.cs);
+  return s;
+}
+
+/// Algorithm 2 written naively: OcTree::search for every voxel of a column.
+GroundGrid referenceProjection(const octomap::OcTree& t, const GroundGrid& like,
+                               const ProjectionParams& p)
+{
+  GroundGrid out = like;
+  std::fill(out.state.begin(), out.state.end(), GroundState::Unknown);
+  const double r = t.getResolution();
+  const auto column = [&](int cx, int cy)
+  {
+    bool unknown = false;
+    for (int k = -1000; k < 1000; ++k)
+    {
+      const double z = (k + 0.5) * r;
+      if (z < p.z_min_m || z > p.z_max_m) continue;
+      const auto* n = t.search(out.state.idx2x(cx), out.state.idx2y(cy), z);
+      if (n && n->getOccupancy() > p.th_occ / 255.0) return GroundState::Occupied;
+      if (!n || n->getOccupancy() >= p.th_free / 255.0) unknown = true;
+    }
+    return unknown ? GroundState::Unknown : GroundState::Free;
+  };
+  std::vector<uint8_t> done(out.state.data().size(), 0);
+  std::deque<Cell> queue{out.robot};
+  while (!queue.empty())
+  {
+    const Cell c = queue.front();
+    queue.pop_front();
+    if (!inGrid(out.state, c.cx, c.cy) || done[c.cx + c.cy * out.state.getSizeX()]) continue;
+    done[c.cx + c.cy * out.state.getSizeX()] = 1;
+    const GroundState s = column(c.cx, c.cy);
+    *out.state.cellByIndex(c.cx, c.cy) = s;
+    if (s != GroundState::Free) continue;
+    for (const Cell& d : {Cell{1, 0}, Cell{-1, 0}, Cell{0, 1}, Cell{0, -1}})
+      queue.push_back({c.cx + d.cx, c.cy + d.cy});
+  }
+  return out;
+}
+
+/// Continuous line of sight (segment sampled finely) between cell centres.
+bool seesContinuous(const GroundGrid& g, const Cell& a, const Cell& b)
+{
+  const Eigen::Vector2d pa = cellCenter(g.state, a), pb = cellCenter(g.state, b);
+  const int n = static_cast<int>((pb - pa).norm() / (0.01 * kRes)) + 1;
+  for (int k = 0; k <= n; ++k)
+  {
+    Cell c;
+    if (cellOf(g.state, pa + (pb - pa) * (double(k) / n), c) &&
+        *g.state.cellByIndex(c.cx, c.cy) == GroundState::Occupied)
+      return false;
+  }
+  return true;
+}
+}  // namespace
+
+// ------------------------------------------------------------------ projection
+
+TEST(Projection, ColumnStatesFromTheVoxelsInTheBandOnly)
+{
+  octomap::OcTree t(kRes);
+  // Band [0.10, 0.50]: voxel centres 0.15 .. 0.45. Free area at negative x, y.
+  fillBox(t, -3.0, -1.0, -2.0, 0.0, 0.1, 0.5, freeLog(t));
+  fillBox(t, -1.6, -1.5, -0.6, -0.5, 0.3, 0.4, occLog(t));  // A: one occupied voxel
+  t.deleteNode(octomap::point3d(-2.55f, -0.55f, 0.25f));    // B: one never-observed voxel
+  fillBox(t, -2.6, -2.5, -1.6, -1.5, 0.2, 0.3, 0.0f);       // C: one voxel at p = 0.5
+  fillBox(t, -1.6, -1.5, -1.6, -1.5, 0.0, 0.1, occLog(t));  // D: occupied below z_min ...
+  fillBox(t, -1.6, -1.5, -1.6, -1.5, 0.5, 0.6, occLog(t));  //    ... and above z_max
+  fillBox(t, -1.3, -1.2, -1.6, -1.5, 0.2, 0.3, octomap::logodds(60.0 / 255));  // E: below th_free
+  fillBox(t, -1.3, -1.2, -0.6, -0.5, 0.2, 0.3, octomap::logodds(80.0 / 255));  // F: between
+  fillBox(t, 0.5, 1.0, -2.0, 0.0, 0.1, 0.5, freeLog(t));  // G: free but not connected
+
+  const GroundGrid g = projectToGround(t, CPose2D(-2.05, -1.05, 0), ProjectionParams{});
+  EXPECT_EQ(at(g.state, -1.55, -0.55), GroundState::Occupied);
+  EXPECT_EQ(at(g.state, -2.55, -0.55), GroundState::Unknown);
+  EXPECT_EQ(at(g.state, -2.55, -1.55), GroundState::Unknown);
+  EXPECT_EQ(at(g.state, -1.55, -1.55), GroundState::Free);
+  EXPECT_EQ(at(g.state, -1.25, -1.55), GroundState::Free);
+  EXPECT_EQ(at(g.state, -1.25, -0.55), GroundState::Unknown);
+  EXPECT_EQ(at(g.state, -2.05, -1.05), GroundState::Free);
+  EXPECT_EQ(at(g.state, 0.75, -1.05), GroundState::Unknown) << "the fill must not jump gaps";
+  EXPECT_EQ(at(g.state, -0.95, -1.05), GroundState::Unknown) << "never observed";
+}
+
+TEST(Projection, GridAlignsWithVoxelColumnsAndCoversMarginAndRobot)
+{
+  octomap::OcTree t(0.05);
+  fillBox(t, -2.35, -0.5, -1.2, 0.4, 0.1, 0.5, freeLog(t));
+  ProjectionParams p;
+  p.margin_m = 0.32;  // not a multiple of the resolution: rounded outward
+  const CPose2D robot(-1.01, -0.33, 0);
+  const GroundGrid g = projectToGround(t, robot, p);
+  const double res = g.state.getResolution();
+  ASSERT_DOUBLE_EQ(res, 0.05);
+  for (const double v :
+       {g.state.getXMin(), g.state.getYMin(), g.state.getXMax(), g.state.getYMax()})
+    EXPECT_NEAR(v / res, std::round(v / res), 1e-9) << v;
+  EXPECT_LE(g.state.getXMin(), -2.35 - 0.32 + 1e-9);
+  EXPECT_LE(g.state.getYMin(), -1.2 - 0.32 + 1e-9);
+  EXPECT_GE(g.state.getXMax(), -0.5 + 0.32 - 1e-9);
+  EXPECT_GE(g.state.getYMax(), 0.4 + 0.32 - 1e-9);
+  EXPECT_LE(g.state.getXMax(), -0.5 + 0.32 + res + 1e-9);
+  // The robot's cell is its voxel column.
+  const octomap::OcTreeKey k = t.coordToKey(octomap::point3d(-1.01f, -0.33f, 0.2f));
+  const Eigen::Vector2d c = cellCenter(g.state, g.robot);
+  EXPECT_NEAR(c.x(), t.keyToCoord(k[0]), 1e-9);
+  EXPECT_NEAR(c.y(), t.keyToCoord(k[1]), 1e-9);
+
+  // A robot outside V's bounds is still on the grid.
+  const GroundGrid far = projectToGround(t, CPose2D(3.0, 2.0, 0), p);
+  EXPECT_GE(far.state.getXMax(), 3.0);
+  EXPECT_TRUE(inGrid(far.state, far.robot.cx, far.robot.cy));
+  EXPECT_EQ(*far.state.cellByIndex(far.robot.cx, far.robot.cy), GroundState::Unknown);
+}
+
+TEST(Projection, MatchesPerVoxelSearchOnPrunedAndExpandedTrees)
+{
+  octomap::OcTree t(kRes);
+  addRoom(t, -3.2, 3.2, -3.2, 3.2);  // aligned blocks: free space prunes into coarse leaves
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<double> u(-3.2, 3.2);
+  for (int i = 0; i < 40; ++i)  // obstacles and holes inside the band
+  {
+    const double x = std::floor(u(rng) / kRes) * kRes, y = std::floor(u(rng) / kRes) * kRes;
+    if (i % 2)
+      fillBox(t, x, x + kRes, y, y + kRes, 0.3, 0.4, occLog(t));
+    else
+      t.deleteNode(octomap::point3d(float(x + 0.05), float(y + 0.05), 0.25f));
+  }
+  t.prune();
+  ProjectionParams p;
+  const CPose2D robot(0.05, 0.05, 0);
+  octomap::OcTree expanded(t);
+  expanded.expand();
+  ASSERT_LT(t.getNumLeafNodes(), expanded.getNumLeafNodes()) << "the test needs coarse leaves";
+  for (const octomap::OcTree* tree : {&t, &expanded})
+  {
+    const GroundGrid g = projectToGround(*tree, robot, p);
+    const GroundGrid ref = referenceProjection(*tree, g, p);
+    ASSERT_EQ(g.state.data(), ref.state.data());
+    EXPECT_GT(std::count(g.state.begin(), g.state.end(), GroundState::Free), 3000);
+  }
+}
+
+// ------------------------------------------------------------- collision space
+
+TEST(CollisionSpace, MatchesBruteForceOnRandomGrid)
+{
+  GroundGrid g = makeGround(-2.0, 1.5, -1.0, 1.5, 0.05, GroundState::Free);
+  std::mt19937 rng(3);
+  std::uniform_int_distribution<int> pick(0, 99);
+  for (auto& s : g.state)
+    s = pick(rng) < 2   ? GroundState::Occupied
+        : pick(rng) < 3 ? GroundState::Unknown
+                        : GroundState::Free;
+  CollisionParams p;
+  p.r_coll_m = 0.2;
+  const CollisionSpace cs = computeCollisionSpace(g, p);
+  const double res = 0.05, R = 0.2 + std::sqrt(2.0) * res;
+  EXPECT_DOUBLE_EQ(cs.radius_m, R);
+  const int nx = static_cast<int>(g.state.getSizeX()), ny = static_cast<int>(g.state.getSizeY());
+  int collision = 0, maybe = 0;
+  for (int cy = 0; cy < ny; ++cy)
+    for (int cx = 0; cx < nx; ++cx)
+    {
+      double d_occ = INFINITY, d_unk = INFINITY;
+      for (int y = 0; y < ny; ++y)
+        for (int x = 0; x < nx; ++x)
+        {
+          const double d = std::hypot(x - cx, y - cy) * res;
+          const GroundState s = *g.state.cellByIndex(x, y);
+          if (s == GroundState::Occupied) d_occ = std::min(d_occ, d);
+          if (s == GroundState::Unknown) d_unk = std::min(d_unk, d);
+        }
+      ASSERT_NEAR(*cs.clearance_occ_m.cellByIndex(cx, cy), d_occ, 1e-5);
+      ASSERT_NEAR(*cs.clearance_unknown_m.cellByIndex(cx, cy), d_unk, 1e-5);
+      const GroundState gs = *g.state.cellByIndex(cx, cy);
+      SpaceState want = gs == GroundState::Occupied  ? SpaceState::Occupied
+                        : gs == GroundState::Unknown ? SpaceState::Unknown
+                        : d_occ <= R + 1e-9          ? SpaceState::Collision
+                        : d_unk <= R + 1e-9          ? SpaceState::MaybeCollision
+                                                     : SpaceState::Free;
+      ASSERT_EQ(*cs.state.cellByIndex(cx, cy), want) << cx << "," << cy;
+      collision += want == SpaceState::Collision;
+      maybe += want == SpaceState::MaybeCollision;
+    }
+  EXPECT_GT(collision, 100);
+  EXPECT_GT(maybe, 10);
+}
+
+TEST(CollisionSpace, NoObstacleMeansInfiniteClearance)
+{
+  const GroundGrid g = makeGround(0, 1, 0, 1, 0.1, GroundState::Free);
+  const CollisionSpace cs = computeCollisionSpace(g, CollisionParams{});
+  EXPECT_TRUE(std::isinf(*cs.clearance_occ_m.cellByIndex(3, 3)));
+  EXPECT_EQ(*cs.state.cellByIndex(3, 3), SpaceState::Free);
+}
+
+// ------------------------------------------------------------------- frontiers
+
+TEST(Frontiers, RoomWithOneDoorwayHasExactlyOneFrontierAtTheDoorway)
+{
+  octomap::OcTree t(kRes);
+  addRoom(t, 0.0, 6.0, 0.0, 5.0);
+  setColumns(t, 6.0, 6.1, 1.5, 3.5, false);  // 2 m doorway in the east wall; unknown beyond
+  const Stages s = runStages(t, 2.0, 2.5);
+  ASSERT_EQ(s.fm.frontiers.size(), 1u);
+  const Frontier& f = s.fm.frontiers[0];
+  EXPECT_EQ(f.id, 0);
+  for (const Cell& c : f.cells)
+  {
+    const Eigen::Vector2d p = cellCenter(s.cs.state, c);
+    EXPECT_NEAR(p.x(), 6.05, 1e-6);
+    EXPECT_GT(p.y(), 1.5);
+    EXPECT_LT(p.y(), 3.5);
+  }
+  EXPECT_NEAR(f.center.y(), 2.5, kRes);
+  EXPECT_NEAR(f.size_m, f.cells.size() * kRes, 1e-9);
+  EXPECT_GT(f.distance_m, 3.5);  // at least the straight line from x = 2.0 to 6.05, less the cell
+  EXPECT_LT(f.distance_m, 4.5);
+  EXPECT_EQ(at(s.fm.reachable, 2.0, 2.5), 1);
+}
+
+TEST(Frontiers, FullyKnownClosedRoomHasNone)
+{
+  octomap::OcTree t(kRes);
+  addRoom(t, 0.0, 6.0, 0.0, 5.0);
+  const Stages s = runStages(t, 2.0, 2.5);
+  EXPECT_TRUE(s.fm.frontiers.empty());
+  EXPECT_GT(std::count(s.fm.reachable.begin(), s.fm.reachable.end(), 1), 500);
+}
+
+TEST(Frontiers, GapNarrowerThanTheRobotCutsOffWhatLiesBeyond)
+{
+  for (const double gap : {0.8, 2.6})
+  {
+    octomap::OcTree t(kRes);
+    addRoom(t, 0.0, 8.1, 0.0, 5.0);
+    setColumns(t, 4.0, 4.1, 0.0, 2.5 - gap / 2, true);  // divider with a central gap
+    setColumns(t, 4.0, 4.1, 2.5 + gap / 2, 5.0, true);
+    setColumns(t, 8.1, 8.2, 1.5, 3.5, false);  // doorway of room B to unknown space
+    const Stages s = runStages(t, 2.0, 2.5);
+    EXPECT_EQ(at(s.g.state, 6.05, 2.55), GroundState::Free) << "room B is known free";
+    if (gap < 2 * s.cs.radius_m)
+    {
+      EXPECT_TRUE(s.fm.frontiers.empty()) << "gap " << gap;
+      EXPECT_LT(at(s.fm.distance_m, 6.05, 2.55), 0.f);
+      EXPECT_EQ(at(s.fm.reachable, 6.05, 2.55), 0);
+    }
+    else
+    {
+      ASSERT_EQ(s.fm.frontiers.size(), 1u) << "control: a wide gap lets the robot through";
+      EXPECT_NEAR(s.fm.frontiers[0].center.x(), 8.15, 1e-6);
+      EXPECT_EQ(at(s.fm.reachable, 6.05, 2.55), 1);
+    }
+  }
+}
+
+TEST(Frontiers, SearchStartsFromARobotCellThatIsNotFree)
+{
+  octomap::OcTree t(kRes);
+  addRoom(t, 0.0, 6.0, 0.0, 5.0);
+  setColumns(t, 6.0, 6.1, 1.5, 3.5, false);
+  const Stages s = runStages(t, 0.35, 2.5);  // within r_coll of the west wall
+  ASSERT_EQ(at(s.cs.state, 0.35, 2.5), SpaceState::Collision);
+  ASSERT_EQ(s.fm.frontiers.size(), 1u);
+  EXPECT_GT(s.fm.frontiers[0].distance_m, 5.0);
+}
+
+// ---------------------------------------------------------- choice and samples
+
+TEST(Sampling, ChooseFrontierPrefersLongThenShortSkippingBlacklist)
+{
+  std::vector<Frontier> fs(4);
+  const double sizes[] = {0.3, 1.5, 0.6, 2.0}, dists[] = {1.0, 4.0, 2.0, 3.0};
+  for (int i = 0; i < 4; ++i)
+  {
+    fs[i].size_m = sizes[i];
+    fs[i].distance_m = dists[i];
+    fs[i].center = {double(i), 0.0};
+  }
+  SamplingParams p;  // th_f1 = 1.0, th_f2 = 0.25
+  EXPECT_EQ(chooseFrontier(fs, p, {}), std::optional<std::size_t>(3));
+  EXPECT_EQ(chooseFrontier(fs, p, {{3.1, 0.0}}), std::optional<std::size_t>(1));
+  EXPECT_EQ(chooseFrontier(fs, p, {}, {3, 1}), std::optional<std::size_t>(0));
+  EXPECT_EQ(chooseFrontier(fs, p, {{0.0, 0.0}}, {3, 1}), std::optional<std::size_t>(2));
+  EXPECT_FALSE(chooseFrontier(fs, p, {}, {0, 1, 2, 3}).has_value());
+  EXPECT_FALSE(chooseFrontier({}, p, {}).has_value());
+}
+
+namespace
+{
+/// 10 x 10 m room, 2 m doorway in the north wall, and a wall segment in
+/// front of it (y = 8.5, x in [2.5, 6.5)) whose corners hide the cells behind it.
+Stages shadowRoom()
+{
+  GroundGrid g = makeGround(-1.0, 11.0, -1.0, 11.0, kRes, GroundState::Unknown);
+  paint(g, -0.1, 10.1, -0.1, 10.1, GroundState::Occupied);
+  paint(g, 0.0, 10.0, 0.0, 10.0, GroundState::Free);
+  paint(g, 3.5, 5.5, 10.0, 10.1, GroundState::Free);  // doorway
+  paint(g, 2.5, 6.5, 8.5, 8.6, GroundState::Occupied);
+  placeRobot(g, 1.0, 1.0);
+  CollisionParams cp;
+  cp.r_coll_m = 0.2;
+  Stages s;
+  s.g = g;
+  s.cs = computeCollisionSpace(g, cp);
+  s.fm = findFrontiers(g, s.cs);
+  return s;
+}
+}  // namespace
+
+TEST(Sampling, SampleSpaceSeesTheFrontierAndExcludesCellsBehindTheCorner)
+{
+  const Stages s = shadowRoom();
+  ASSERT_EQ(s.fm.frontiers.size(), 1u);
+  const Frontier& f = s.fm.frontiers[0];
+  const SamplingParams p;
+  // Behind the wall segment: reachable and at the right distance, but blind.
+  ASSERT_EQ(at(s.fm.reachable, 4.55, 7.65), 1);
+  const std::vector<Cell> space = sampleSpace(s.g, s.cs, s.fm, f, p);
+  ASSERT_GT(space.size(), 100u);
+  int in_front = 0;
+  for (const Cell& c : space)
+  {
+    const Eigen::Vector2d xy = cellCenter(s.cs.state, c);
+    EXPECT_FALSE(xy.x() > 4.0 && xy.x() < 5.0 && xy.y() > 7.0 && xy.y() < 8.5)
+        << "blind cell " << xy.transpose();
+    EXPECT_EQ(*s.fm.reachable.cellByIndex(c.cx, c.cy), 1);
+    double d = INFINITY;
+    bool sees = false;
+    for (const Cell& fc : f.cells)
+    {
+      d = std::min(d, (cellCenter(s.cs.state, fc) - xy).norm());
+      sees = sees || seesContinuous(s.g, c, fc);
+    }
+    EXPECT_GE(d, p.d_min_sample_m - 1e-6);
+    EXPECT_LE(d, p.d_max_sample_m + 1e-6);
+    EXPECT_TRUE(sees) << xy.transpose();
+    in_front += xy.y() > 8.6;
+  }
+  EXPECT_GT(in_front, 20);
+}
+
+TEST(Sampling, SamplesAreDeterministicPerSeedAndSpreadOut)
+{
+  const Stages s = shadowRoom();
+  ASSERT_EQ(s.fm.frontiers.size(), 1u);
+  const Frontier& f = s.fm.frontiers[0];
+  SamplingParams p;
+  const std::vector<Cell> space = sampleSpace(s.g, s.cs, s.fm, f, p);
+  std::mt19937_64 a(42), b(42), c(43);
+  const auto pa = samplePoses(s.cs.state, space, f, p, a);
+  const auto pb = samplePoses(s.cs.state, space, f, p, b);
+  const auto pc = samplePoses(s.cs.state, space, f, p, c);
+  ASSERT_EQ(pa.size(), static_cast<std::size_t>(p.max_samples));
+  ASSERT_EQ(pa.size(), pb.size());
+  bool differs = pc.size() != pa.size();
+  for (std::size_t i = 0; i < pa.size(); ++i)
+  {
+    EXPECT_EQ(pa[i], pb[i]);
+    differs = differs || !(pa[i] == pc[i]);
+    const Eigen::Vector2d to_f = f.center - Eigen::Vector2d(pa[i].x(), pa[i].y());
+    EXPECT_NEAR(pa[i].phi(), std::atan2(to_f.y(), to_f.x()), 1e-9);
+    for (std::size_t j = 0; j < i; ++j)
+      EXPECT_GE(std::hypot(pa[i].x() - pa[j].x(), pa[i].y() - pa[j].y()), p.min_sample_dist_m);
+  }
+  EXPECT_TRUE(differs) << "another seed should give other samples";
+  std::mt19937_64 d(1);
+  EXPECT_TRUE(samplePoses(s.cs.state, {}, f, p, d).empty());
+}
+
+// ------------------------------------------------------------------ parameters
+
+TEST(StageParams, LoadSaveRoundTripAndBadValuesThrow)
+{
+  mrpt::config::CConfigFileMemory cfg;
+  ProjectionParams pp;
+  pp.z_max_m = 0.7;
+  pp.saveToConfigFile(cfg, "projection");
+  SamplingParams sp;
+  sp.max_samples = 7;
+  sp.saveToConfigFile(cfg, "sampling");
+  CollisionParams cp;
+  cp.r_coll_m = 0.4;
+  cp.saveToConfigFile(cfg, "collision");
+  ProjectionParams pp2;
+  SamplingParams sp2;
+  CollisionParams cp2;
+  pp2.loadFromConfigFile(cfg, "projection");
+  sp2.loadFromConfigFile(cfg, "sampling");
+  cp2.loadFromConfigFile(cfg, "collision");
+  EXPECT_DOUBLE_EQ(pp2.z_max_m, 0.7);
+  EXPECT_EQ(sp2.max_samples, 7);
+  EXPECT_DOUBLE_EQ(cp2.r_coll_m, 0.4);
+
+  cfg.write("projection", "z_max_m", 0.05);
+  EXPECT_THROW(pp2.loadFromConfigFile(cfg, "projection"), std::exception);
+  cfg.write("sampling", "d_max_sample_m", 0.5);
+  EXPECT_THROW(sp2.loadFromConfigFile(cfg, "sampling"), std::exception);
+  cfg.write("collision", "r_coll_m", -1.0);
+  EXPECT_THROW(cp2.loadFromConfigFile(cfg, "collision"), std::exception);
+}
