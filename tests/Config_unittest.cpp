@@ -4,7 +4,9 @@
 #include <mrpt/config/CConfigFile.h>
 #include <mrpt/config/CConfigFileMemory.h>
 #include <voxplore/common/config.h>
+#include <voxplore/exploration/Planner.h>
 #include <voxplore/mapping/SlamIcp.h>
+#include <voxplore/navigation/DriverParams.h>
 #include <voxplore/sim/SimConfig.h>
 
 #include <filesystem>
@@ -54,10 +56,16 @@ TEST(Config, EveryIniInConfigLoads)
     // struct present must load (keys and values checked).
     std::set<std::string> known = {"robot", "cameras", "simulator"};
     for (const auto& sec : mapping::SlamIcpParams::sections()) known.insert(sec);
+    for (const auto& sec : exploration::PlannerParams::sections()) known.insert(sec);
+    for (const auto& sec : navigation::DriverParams::sections()) known.insert(sec);
     EXPECT_NO_THROW(common::assertKnownSections(*cfg, known));
     EXPECT_NO_THROW(sim::SimConfig::load(*cfg));
     mapping::SlamIcpParams slam;
     EXPECT_NO_THROW(slam.load(*cfg));
+    exploration::PlannerParams planner;
+    EXPECT_NO_THROW(planner.load(*cfg));
+    navigation::DriverParams nav;
+    EXPECT_NO_THROW(common::loadChecked(nav, *cfg, "navigation"));
     n++;
   }
   EXPECT_GE(n, 2u);

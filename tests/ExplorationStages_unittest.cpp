@@ -145,11 +145,14 @@ TEST(Projection, GridAlignsWithVoxelColumnsAndCoversMarginAndRobot)
   EXPECT_NEAR(c.x(), t.keyToCoord(k[0]), 1e-9);
   EXPECT_NEAR(c.y(), t.keyToCoord(k[1]), 1e-9);
 
-  // A robot outside V's bounds is still on the grid.
+  // A robot outside V's bounds is still on the grid. It stands on its own
+  // column (free by definition), but nothing around it is known.
   const GroundGrid far = projectToGround(t, CPose2D(3.0, 2.0, 0), p);
   EXPECT_GE(far.state.getXMax(), 3.0);
   EXPECT_TRUE(inGrid(far.state, far.robot.cx, far.robot.cy));
-  EXPECT_EQ(*far.state.cellByIndex(far.robot.cx, far.robot.cy), GroundState::Unknown);
+  EXPECT_EQ(*far.state.cellByIndex(far.robot.cx, far.robot.cy), GroundState::Free);
+  EXPECT_EQ(*far.state.cellByIndex(far.robot.cx - 1, far.robot.cy), GroundState::Unknown);
+  EXPECT_EQ(*far.state.cellByIndex(far.robot.cx, far.robot.cy + 1), GroundState::Unknown);
 }
 
 TEST(Projection, MatchesPerVoxelSearchOnPrunedAndExpandedTrees)

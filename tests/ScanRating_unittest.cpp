@@ -241,7 +241,7 @@ TEST(ScanRating, VoxelsBehindAClosedWallNeverCount)
   EXPECT_LE(inside.unknown_voxels, 38u * 38u * 40u);
   EXPECT_GT(inside.unknown_voxels, 1000u);
   OcTree marked(t);
-  setBox(marked, point3d(1.2f, -3, -2), point3d(3, 3, 2), octomap::logodds(0.6));
+  setBox(marked, point3d(1.2f, -2, -1), point3d(3, 2, 2), octomap::logodds(0.6));
   const auto with_marks = rateScan(marked, pose, p);
   EXPECT_EQ(with_marks.voxels, inside.voxels);
   EXPECT_EQ(with_marks.gain, inside.gain);
@@ -287,17 +287,16 @@ TEST(ScanRating, FastEqualsNaiveOnARoomMap)
 TEST(ScanRating, FastEqualsNaiveWithManyDistinctValues)
 {
   // ~80k voxels of random log-odds (more distinct values than ours interns:
-  // the rest take the tree path), some above th_occ.
+  // the rest take the tree path), 13 % above th_occ.
   OcTree t(0.05);
   std::mt19937 rng(3);
-  std::uniform_real_distribution<float> l(-2.0f, 3.2f);
+  std::uniform_real_distribution<float> l(-2.0f, 3.5f);
   for (double x = -1.5; x < 1.5; x += 0.05)
     for (double y = -1.5; y < 1.5; y += 0.05)
       for (double z = 0.0; z < 1.1; z += 0.05) t.setNodeValue(x + 0.025, y + 0.025, z + 0.025, l(rng));
   ScanRatingParams p;
   p.beam_reduction = 1;
-  p.th_occ = 250;
-  for (const CPose2D pose : {CPose2D(0.1, 0.2, 0.3), CPose2D(-0.7, 0.4, 2.0)})
+  for (const CPose2D& pose : {CPose2D(0.1, 0.2, 0.3), CPose2D(-0.7, 0.4, 2.0)})
     expectSameRating(rateScan(t, pose, p), rateScanNaive(t, pose, p), pose.asString());
 }
 

@@ -1,0 +1,98 @@
+/* voxplore — the exploration planner (thesis 4.5): from V and the robot pose
+ * to the next best pose and a safe path, or "done". */
+#pragma once
+
+#include <mrpt/config/CConfigFileBase.h>
+#include <mrpt/poses/CPose2D.h>
+#include <voxplore/exploration/path.h>
+#include <voxplore/exploration/scan_rating.h>
+#include <voxplore/exploration/stages.h>
+
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace voxplore::exploration
+{
+/// @brief Strategy: the thesis' next-best-view, or the classic nearest-frontier baseline.
+enum class Strategy
+{
+  NextBestView,    ///< samples around the chosen frontier rated by entropy ray casting
+  NearestFrontier  ///< drive to the chosen frontier's nearest Free cell to its centre (no rating)
+};
+
+/// @brief All planner settings: [projection] [collision] [sampling] [scan_rating] [path] [planner].
+struct PlannerParams
+{
+  ProjectionParams projection;
+  CollisionParams collision;
+  SamplingParams sampling;
+  ScanRatingParams rating;
+  PathParams path;
+  Strategy strategy = Strategy::NextBestView;
+  int seed = 1;  ///< [planner] seed of the pose sampler
+
+  void load(const mrpt::config::CConfigFileBase& cfg);
+  void save(mrpt::config::CConfigFileBase& cfg) const;
+  static std::vector<std::string> sections()
+  {
+    return {"projection", "collision", "sampling", "scan_rating", "path", "planner"};
+  }
+};
+
+/// @brief Why planning ended without a target.
+enum class DoneReason
+{
+  None,                ///< not done: there is a plan
+  NoFrontier,          ///< no frontier at all: fully explored
+  NoReachableFrontier, ///< frontiers exist but none passes th_f2 / is reachable
+  AllSkipped           ///< every qualifying frontier had an empty sample space, no path, or is blacklisted
+};
+const char* toString(DoneReason r);
+
+/// @brief Milliseconds per stage of one planning step.
+struct PlanTimings
+{
+  double projection = 0, collision = 0, frontiers = 0, sampling = 0, rating = 0, path = 0, total = 0;
+};
+
+/// @brief Result of one planning step: a plan, or done with its reason.
+struct PlanResult
+{
+  DoneReason done = DoneReason::None;
+  std::string message;                 ///< human-readable summary
+  std::vector<Eigen::Vector2d> waypoints;  ///< start excluded, target last
+  mrpt::poses::CPose2D target;         ///< pose to reach (yaw at the frontier)
+  std::optional<Frontier> frontier;    ///< the chosen frontier
+  std::vector<mrpt::poses::CPose2D> samples;
+  std::vector<ScanRating> ratings;     ///< one per sample (NextBestView)
+  std::optional<Path> path;
+  std::vector<std::size_t> skipped_frontiers;  ///< indices tried and skipped
+  PlanTimings ms;
+  // Layers, kept for rendering and inspection.
+  std::shared_ptr<const GroundGrid> ground;
+  std::shared_ptr<const CollisionSpace> space;
+  std::shared_ptr<const FrontierMap> frontiers;
+  std::vector<Cell> sample_space;
+
+  bool ok() const { return done == DoneReason::None; }
+};
+
+/// @brief Runs every stage. Deterministic: the sampler is seeded with
+///        params.seed and the step counter passed in.
+PlanResult plan(
+    const octomap::OcTree& V, const mrpt::poses::CPose2D& robot, const PlannerParams& params,
+    const std::vector<Eigen::Vector2d>& blacklist = {}, uint64_t step = 0);
+
+/// @brief PNG of G with its layers in the thesis' colours (fig. 4.12): free
+///        white, occupied black, unknown red, collision grey, maybe-collision
+///        green, reachable blue, frontiers cyan, chosen frontier yellow,
+///        sample space purple, samples orange, chosen pose and path magenta,
+///        robot and travelled `trajectory` (optional) dark red. One pixel per cell, scaled by `scale`.
+/// @throws std::runtime_error naming the path when it cannot be written.
+void renderPlan(
+    const PlanResult& r, const mrpt::poses::CPose2D& robot, const std::string& png_path,
+    const std::vector<mrpt::poses::CPose2D>& trajectory = {}, int scale = 4);
+
+}  // namespace voxplore::exploration

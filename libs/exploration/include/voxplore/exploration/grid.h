@@ -1,0 +1,71 @@
+/* voxplore — the 2D exploration grid G and its layers (thesis 4.5). */
+#pragma once
+
+#include <mrpt/containers/CDynamicGrid.h>
+
+#include <Eigen/Core>
+#include <cstdint>
+#include <vector>
+
+namespace voxplore::exploration
+{
+/// @brief A 2D grid over world metres with signed coordinates (MRPT's
+///        CDynamicGrid: no offset tricks in our code). Cell (cx, cy) covers
+///        [x_min + cx*res, x_min + (cx+1)*res) x [...]; with x_min a multiple
+///        of res, cells line up with the OctoMap voxel columns of the same res.
+template <typename T>
+using Grid = mrpt::containers::CDynamicGrid<T>;
+
+/// @brief Cell index pair.
+struct Cell
+{
+  int cx = 0, cy = 0;
+  bool operator==(const Cell& o) const { return cx == o.cx && cy == o.cy; }
+  bool operator!=(const Cell& o) const { return !(*this == o); }
+};
+
+/// @brief State of a cell of G after the projection (algorithm 2).
+enum class GroundState : uint8_t
+{
+  Unknown = 0,  ///< not reached by the flood fill, or a column with an unknown voxel
+  Free = 1,     ///< every voxel of the column in [z_min, z_max] is free
+  Occupied = 2  ///< a voxel of the column is occupied
+};
+
+/// @brief Space classes after the collision-space step (thesis 4.5.2).
+enum class SpaceState : uint8_t
+{
+  Unknown = 0,         ///< G unknown
+  Occupied = 1,        ///< G occupied
+  Collision = 2,       ///< free, within r_coll + sqrt(2) l_res of an occupied cell
+  MaybeCollision = 3,  ///< free, within that distance of an unknown cell (not of an occupied one)
+  Free = 4             ///< free and clear of both: the robot centre may be here
+};
+
+/// @brief Centre of a cell in world metres.
+template <typename T>
+Eigen::Vector2d cellCenter(const Grid<T>& g, const Cell& c)
+{
+  return {g.idx2x(c.cx), g.idx2y(c.cy)};
+}
+
+/// @brief The cell containing world point p; false when outside the grid.
+template <typename T>
+bool cellOf(const Grid<T>& g, const Eigen::Vector2d& p, Cell& out)
+{
+  if (p.x() < g.getXMin() || p.y() < g.getYMin() || p.x() >= g.getXMax() || p.y() >= g.getYMax())
+    return false;
+  out = {g.x2idx(p.x()), g.y2idx(p.y())};
+  return out.cx >= 0 && out.cy >= 0 && out.cx < static_cast<int>(g.getSizeX()) &&
+         out.cy < static_cast<int>(g.getSizeY());
+}
+
+/// @brief True when (cx, cy) is inside the grid.
+template <typename T>
+bool inGrid(const Grid<T>& g, int cx, int cy)
+{
+  return cx >= 0 && cy >= 0 && cx < static_cast<int>(g.getSizeX()) &&
+         cy < static_cast<int>(g.getSizeY());
+}
+
+}  // namespace voxplore::exploration

@@ -1,0 +1,45 @@
+/* voxplore — clearance-keeping paths on the collision space (thesis 4.5.5). */
+#pragma once
+
+#include <mrpt/config/CLoadableOptions.h>
+#include <mrpt/poses/CPose2D.h>
+#include <voxplore/exploration/stages.h>
+
+#include <Eigen/Core>
+#include <optional>
+#include <vector>
+
+namespace voxplore::exploration
+{
+/// @brief ini section [path].
+struct PathParams : public mrpt::config::CLoadableOptions
+{
+  double clearance_weight = 2.0;   ///< A* cost per metre: 1 + weight * max(0, clearance_ref - clearance) / clearance_ref
+  double clearance_ref_m = 1.5;    ///< clearance beyond which no extra cost is paid [m]
+  double shortcut_margin_m = 0.1;  ///< a shortcut may not pass closer to obstacles than the A* path's minimum clearance minus this [m]
+  double max_segment_m = 1.0;      ///< waypoints at most this far apart (stop-and-scan, thesis 4.6) [m]
+  void loadFromConfigFile(const mrpt::config::CConfigFileBase& c, const std::string& s) override;
+  void saveToConfigFile(mrpt::config::CConfigFileBase& c, const std::string& s) const override;
+};
+
+/// @brief A planned path.
+struct Path
+{
+  std::vector<Eigen::Vector2d> cells_path;  ///< A* cell centres, start to goal [m]
+  std::vector<Eigen::Vector2d> waypoints;   ///< after shortcutting and cutting into segments <= max_segment_m; first = start
+  double length_m = 0;                      ///< length of the waypoint polyline [m]
+  double min_clearance_m = 0;               ///< smallest clearance to occupied/unknown along it [m]
+};
+
+/// @brief A* over Free cells (8-connected) from `start` to `goal`, cost =
+///        length x (1 + clearance term from the distance transform), then
+///        line-of-sight shortcutting that keeps every straight piece inside
+///        Free cells and never lowers the clearance below the A* path's
+///        minimum minus shortcut_margin_m, then cut into segments.
+/// @return empty when the goal is unreachable or not Free (the start may be
+///         in MaybeCollision/Collision: the search leaves it by the cheapest way)
+std::optional<Path> planPath(
+    const CollisionSpace& cs, const Eigen::Vector2d& start, const Eigen::Vector2d& goal,
+    const PathParams& p);
+
+}  // namespace voxplore::exploration

@@ -1,0 +1,140 @@
+/* voxplore — the 2D stages of the exploration planner (thesis 4.5.1 - 4.5.4):
+ * each a pure function with a Parameters struct. */
+#pragma once
+
+#include <mrpt/config/CLoadableOptions.h>
+#include <mrpt/poses/CPose2D.h>
+#include <voxplore/exploration/grid.h>
+
+#include <Eigen/Core>
+#include <optional>
+#include <random>
+#include <string>
+#include <vector>
+
+namespace octomap
+{
+class OcTree;
+}
+
+namespace voxplore::exploration
+{
+// ---------------------------------------------------------------- 1. projection
+/// @brief ini section [projection].
+struct ProjectionParams : public mrpt::config::CLoadableOptions
+{
+  double z_min_m = 0.10;  ///< voxels of a column from this height (floor excluded) [m]
+  double z_max_m = 0.50;  ///< ... up to this height [m]
+  int th_free = 70;       ///< free below (0..255 scale, p = value/255)
+  int th_occ = 240;       ///< occupied above (0..255 scale)
+  double margin_m = 1.0;  ///< grid extends this far past the map's bounds [m]
+  void loadFromConfigFile(const mrpt::config::CConfigFileBase& c, const std::string& s) override;
+  void saveToConfigFile(mrpt::config::CConfigFileBase& c, const std::string& s) const override;
+};
+
+/// @brief G: ground states and where the robot is in it.
+struct GroundGrid
+{
+  Grid<GroundState> state;
+  Cell robot;
+};
+
+/// @brief Algorithm 2: flood fill from the robot's column over voxel columns
+///        [z_min, z_max] of V; a column is occupied if any voxel > th_occ,
+///        unknown if any voxel is >= th_free or has never been observed,
+///        else free (and its 4 neighbours are queued). The robot's own
+///        column counts as free unless occupied (the robot stands there; the
+///        cameras cannot see it). Cells the fill does not reach stay Unknown. The grid covers V's bounds plus margin and
+///        the robot; its resolution is V's.
+GroundGrid projectToGround(
+    const octomap::OcTree& V, const mrpt::poses::CPose2D& robot, const ProjectionParams& p);
+
+// ------------------------------------------------------------ 2. collision space
+/// @brief ini section [collision].
+struct CollisionParams : public mrpt::config::CLoadableOptions
+{
+  double r_coll_m = 0.698;  ///< robot collision radius sqrt((l/2)^2 + (w/2)^2) (omniRob) [m]
+  void loadFromConfigFile(const mrpt::config::CConfigFileBase& c, const std::string& s) override;
+  void saveToConfigFile(mrpt::config::CConfigFileBase& c, const std::string& s) const override;
+};
+
+/// @brief Space classes and clearances.
+struct CollisionSpace
+{
+  Grid<SpaceState> state;
+  Grid<float> clearance_occ_m;      ///< distance from the cell centre to the nearest occupied cell centre [m]
+  Grid<float> clearance_unknown_m;  ///< ... to the nearest unknown cell centre [m]
+  double radius_m = 0;              ///< r_coll + sqrt(2) l_res, the radius used
+};
+
+/// @brief thesis 4.5.2 with exact Euclidean distance transforms (no per-cell
+///        disc loops): free cells within r_coll + sqrt(2) l_res of an
+///        occupied cell are Collision, else of an unknown cell MaybeCollision.
+CollisionSpace computeCollisionSpace(const GroundGrid& g, const CollisionParams& p);
+
+// -------------------------------------------------------------------- 3. frontiers
+/// @brief One frontier: 8-connected reachable free cells bordering unknown space.
+struct Frontier
+{
+  int id = 0;
+  std::vector<Cell> cells;
+  double size_m = 0;          ///< cells x l_res
+  double distance_m = 0;      ///< BFS travel distance from the robot to its nearest cell [m]
+  Eigen::Vector2d centroid{0, 0};  ///< mean of its cell centres [m]
+  Eigen::Vector2d center{0, 0};    ///< its cell nearest to the centroid [m] (lies on the frontier)
+};
+
+/// @brief Reachability and frontiers.
+struct FrontierMap
+{
+  Grid<float> distance_m;    ///< travel distance from the robot [m]; -1 where not reached
+  Grid<uint8_t> reachable;   ///< 1: the robot centre can get here (Free, connected to the robot)
+  std::vector<Frontier> frontiers;  ///< sorted by distance_m, then size
+};
+
+/// @brief thesis 4.5.3: BFS from the robot over Free cells (reachable space),
+///        continued one band into MaybeCollision cells; frontier cells are
+///        reached Free/MaybeCollision cells with an Unknown 4-neighbour,
+///        grouped 8-connected. Distances: 8-connected BFS, 1 per straight
+///        step and sqrt(2) per diagonal (Dijkstra on the grid).
+FrontierMap findFrontiers(const GroundGrid& g, const CollisionSpace& cs);
+
+// ---------------------------------------------------------- 4. choice and samples
+/// @brief ini section [sampling].
+struct SamplingParams : public mrpt::config::CLoadableOptions
+{
+  double th_f1_m = 1.0;         ///< prefer the nearest frontier longer than this [m]
+  double th_f2_m = 0.25;        ///< else the nearest longer than this [m]; else done
+  double d_min_sample_m = 1.0;  ///< sample space: at least this far from the frontier [m]
+  double d_max_sample_m = 3.0;  ///< ... at most this far [m]
+  int max_samples = 15;         ///< pose samples per frontier
+  double min_sample_dist_m = 0.5;  ///< samples at least this far apart [m]
+  double blacklist_radius_m = 0.5; ///< a frontier whose centre is this close to a failed target is skipped [m]
+  void loadFromConfigFile(const mrpt::config::CConfigFileBase& c, const std::string& s) override;
+  void saveToConfigFile(mrpt::config::CConfigFileBase& c, const std::string& s) const override;
+};
+
+/// @brief thesis 4.5.4 "unknown border selection": index into frontiers of
+///        the nearest frontier longer than th_f1, else longer than th_f2,
+///        skipping `skip` (indices) and frontiers near a blacklisted point.
+/// @return empty when none qualifies (exploration done)
+std::optional<std::size_t> chooseFrontier(
+    const std::vector<Frontier>& frontiers, const SamplingParams& p,
+    const std::vector<Eigen::Vector2d>& blacklist, const std::vector<std::size_t>& skip = {});
+
+/// @brief Sample space: reachable Free cells whose distance to the nearest
+///        frontier cell is in [d_min_sample, d_max_sample] and that see at
+///        least one frontier cell along a 4-connected Bresenham line not
+///        blocked by an Occupied cell (thesis fig. 4.15).
+std::vector<Cell> sampleSpace(
+    const GroundGrid& g, const CollisionSpace& cs, const FrontierMap& fm, const Frontier& f,
+    const SamplingParams& p);
+
+/// @brief Up to max_samples random cells of the sample space, pairwise at
+///        least min_sample_dist apart (drawn from `rng` only: deterministic
+///        for a seed); yaw towards the frontier's center.
+std::vector<mrpt::poses::CPose2D> samplePoses(
+    const Grid<SpaceState>& grid, const std::vector<Cell>& space, const Frontier& f,
+    const SamplingParams& p, std::mt19937_64& rng);
+
+}  // namespace voxplore::exploration

@@ -1,0 +1,195 @@
+#include <mrpt/system/CTicTac.h>
+#include <octomap/OcTree.h>
+#include <voxplore/common/config.h>
+#include <voxplore/exploration/Planner.h>
+
+#include <algorithm>
+#include <numeric>
+#include <sstream>
+
+namespace voxplore::exploration
+{
+using mrpt::poses::CPose2D;
+
+const char* toString(DoneReason r)
+{
+  switch (r)
+  {
+    case DoneReason::None:
+      return "none";
+    case DoneReason::NoFrontier:
+      return "no frontier";
+    case DoneReason::NoReachableFrontier:
+      return "no reachable frontier";
+    case DoneReason::AllSkipped:
+      return "all frontiers skipped";
+  }
+  return "?";
+}
+
+void PlannerParams::load(const mrpt::config::CConfigFileBase& cfg)
+{
+  common::loadChecked(projection, cfg, "projection");
+  common::loadChecked(collision, cfg, "collision");
+  common::loadChecked(sampling, cfg, "sampling");
+  std::set<std::string> cam_keys;
+  for (int i = 0; i < 64; i++) cam_keys.insert("cam" + std::to_string(i) + "_pose");
+  common::assertKnownKeys(cfg, "scan_rating", rating, cam_keys);
+  common::assertNumericValues(cfg, "scan_rating", rating);
+  rating.loadFromConfigFile(cfg, "scan_rating");
+  common::loadChecked(path, cfg, "path");
+  common::assertKnownKeys(cfg, "planner", std::set<std::string>{"strategy", "seed"});
+  const std::string s = cfg.read_string("planner", "strategy", "nbv");
+  common::requireValid(s == "nbv" || s == "nearest", cfg, "planner", "strategy", "expected nbv or nearest");
+  strategy = s == "nbv" ? Strategy::NextBestView : Strategy::NearestFrontier;
+  seed = static_cast<int>(common::readDoubleStrict(cfg, "planner", "seed", seed));
+}
+
+void PlannerParams::save(mrpt::config::CConfigFileBase& cfg) const
+{
+  projection.saveToConfigFile(cfg, "projection");
+  collision.saveToConfigFile(cfg, "collision");
+  sampling.saveToConfigFile(cfg, "sampling");
+  rating.saveToConfigFile(cfg, "scan_rating");
+  path.saveToConfigFile(cfg, "path");
+  cfg.write("planner", "strategy", strategy == Strategy::NextBestView ? "nbv" : "nearest");
+  cfg.write("planner", "seed", seed);
+}
+
+namespace
+{
+/// The reachable Free cell nearest to `p` (the nearest-frontier baseline's target).
+std::optional<Eigen::Vector2d> nearestReachable(const FrontierMap& fm, const Eigen::Vector2d& p)
+{
+  const auto& g = fm.reachable;
+  std::optional<Eigen::Vector2d> best;
+  double best_d2 = std::numeric_limits<double>::infinity();
+  for (int cy = 0; cy < static_cast<int>(g.getSizeY()); cy++)
+    for (int cx = 0; cx < static_cast<int>(g.getSizeX()); cx++)
+    {
+      if (!*g.cellByIndex(cx, cy)) continue;
+      const Eigen::Vector2d c = cellCenter(g, {cx, cy});
+      const double d2 = (c - p).squaredNorm();
+      if (d2 < best_d2)
+      {
+        best_d2 = d2;
+        best = c;
+      }
+    }
+  return best;
+}
+
+double yawTowards(const Eigen::Vector2d& from, const Eigen::Vector2d& to)
+{
+  return std::atan2(to.y() - from.y(), to.x() - from.x());
+}
+
+/// Tries one frontier: candidate poses (rated for NBV), then a path to the
+/// best candidate that has one. Fills r on success.
+bool tryFrontier(
+    const octomap::OcTree& V, const CPose2D& robot, const PlannerParams& p, std::size_t fi,
+    uint64_t step, PlanResult& r)
+{
+  const Frontier& f = r.frontiers->frontiers[fi];
+  const Eigen::Vector2d start(robot.x(), robot.y());
+  std::vector<CPose2D> candidates;
+  mrpt::system::CTicTac tic;
+  if (p.strategy == Strategy::NearestFrontier)
+  {
+    const auto goal = nearestReachable(*r.frontiers, f.centroid);
+    if (!goal) return false;
+    candidates.emplace_back(goal->x(), goal->y(), yawTowards(*goal, f.center));
+  }
+  else
+  {
+    r.sample_space = sampleSpace(*r.ground, *r.space, *r.frontiers, f, p.sampling);
+    std::seed_seq seq{static_cast<uint32_t>(p.seed), static_cast<uint32_t>(step),
+                      static_cast<uint32_t>(fi)};
+    std::mt19937_64 rng(seq);
+    r.samples = samplePoses(r.space->state, r.sample_space, f, p.sampling, rng);
+    r.ms.sampling += 1e3 * tic.Tac();
+    if (r.samples.empty()) return false;
+    tic.Tic();
+    r.ratings.clear();
+    for (const auto& s : r.samples) r.ratings.push_back(rateScan(V, s, p.rating));
+    r.ms.rating += 1e3 * tic.Tac();
+    if (!bestRated(r.ratings)) return false;  // nothing to learn around this frontier
+    // Candidates by decreasing gain (stable: ties keep the sampler's order).
+    std::vector<std::size_t> order(r.samples.size());
+    std::iota(order.begin(), order.end(), 0);
+    std::stable_sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) {
+      return r.ratings[a].gain > r.ratings[b].gain;
+    });
+    for (std::size_t i : order)
+      if (r.ratings[i].gain > 0) candidates.push_back(r.samples[i]);
+  }
+  tic.Tic();
+  for (const auto& c : candidates)
+  {
+    auto path = planPath(*r.space, start, Eigen::Vector2d(c.x(), c.y()), p.path);
+    if (!path) continue;
+    r.path = std::move(path);
+    r.target = c;
+    r.waypoints.assign(r.path->waypoints.begin() + (r.path->waypoints.size() > 1 ? 1 : 0),
+                       r.path->waypoints.end());
+    r.frontier = f;
+    r.ms.path += 1e3 * tic.Tac();
+    return true;
+  }
+  r.ms.path += 1e3 * tic.Tac();
+  return false;
+}
+}  // namespace
+
+PlanResult plan(
+    const octomap::OcTree& V, const CPose2D& robot, const PlannerParams& p,
+    const std::vector<Eigen::Vector2d>& blacklist, uint64_t step)
+{
+  PlanResult r;
+  mrpt::system::CTicTac total, tic;
+  auto ground = std::make_shared<GroundGrid>(projectToGround(V, robot, p.projection));
+  r.ms.projection = 1e3 * tic.Tac();
+  tic.Tic();
+  auto space = std::make_shared<CollisionSpace>(computeCollisionSpace(*ground, p.collision));
+  r.ms.collision = 1e3 * tic.Tac();
+  tic.Tic();
+  auto fm = std::make_shared<FrontierMap>(findFrontiers(*ground, *space));
+  r.ms.frontiers = 1e3 * tic.Tac();
+  r.ground = ground;
+  r.space = space;
+  r.frontiers = fm;
+
+  if (fm->frontiers.empty())
+  {
+    r.done = DoneReason::NoFrontier;
+    r.message = "no frontier: the reachable space is fully explored";
+  }
+  while (r.done == DoneReason::None)
+  {
+    const auto fi = chooseFrontier(fm->frontiers, p.sampling, blacklist, r.skipped_frontiers);
+    if (!fi)
+    {
+      r.done = r.skipped_frontiers.empty() ? DoneReason::NoReachableFrontier : DoneReason::AllSkipped;
+      std::ostringstream os;
+      os << fm->frontiers.size() << " frontier(s), none longer than " << p.sampling.th_f2_m
+         << " m and not blacklisted" << (r.skipped_frontiers.empty() ? "" : " left after skipping ")
+         << (r.skipped_frontiers.empty() ? "" : std::to_string(r.skipped_frontiers.size()));
+      r.message = os.str();
+      break;
+    }
+    if (tryFrontier(V, robot, p, *fi, step, r))
+    {
+      std::ostringstream os;
+      os << "frontier " << *fi << " (" << r.frontier->size_m << " m, " << r.frontier->distance_m
+         << " m away): target (" << r.target.x() << ", " << r.target.y() << "), path "
+         << r.path->length_m << " m in " << r.waypoints.size() << " waypoints";
+      r.message = os.str();
+      break;
+    }
+    r.skipped_frontiers.push_back(*fi);
+  }
+  r.ms.total = 1e3 * total.Tac();
+  return r;
+}
+
+}  // namespace voxplore::exploration

@@ -1,0 +1,193 @@
+/* voxplore — reachable space and frontiers (thesis 4.5.3). */
+#include <mrpt/core/exceptions.h>
+#include <voxplore/exploration/stages.h>
+
+#include <algorithm>
+#include <cmath>
+#include <functional>
+#include <limits>
+#include <queue>
+#include <vector>
+
+namespace voxplore::exploration
+{
+namespace
+{
+constexpr double kSqrt2 = 1.4142135623730951;
+constexpr int kDx[8] = {1, -1, 0, 0, 1, 1, -1, -1};
+constexpr int kDy[8] = {0, 0, 1, -1, 1, -1, 1, -1};
+
+/// Dijkstra state over the grid (row-major index = cx + cy * nx).
+struct Search
+{
+  int nx = 0, ny = 0;
+  const SpaceState* space = nullptr;
+  std::vector<double> dist;     ///< cells; < 0: not reached
+  std::vector<uint8_t> escape;  ///< reached from a non-Free start through non-Free cells only
+  bool free_settled = false;    ///< a Free cell has been settled: escaping stops
+};
+
+/// May the search step from cell `from` into cell `to`? Free cells expand
+/// into Free and MaybeCollision; MaybeCollision cells (the band) only into
+/// MaybeCollision; a non-Free start escapes through Collision/MaybeCollision
+/// cells until the first Free cell is settled.
+bool mayEnter(const Search& s, int from, int to)
+{
+  const SpaceState a = s.space[from], b = s.space[to];
+  if (s.escape[from] && !s.free_settled)
+    return b == SpaceState::Free || b == SpaceState::MaybeCollision || b == SpaceState::Collision;
+  if (a == SpaceState::Free) return b == SpaceState::Free || b == SpaceState::MaybeCollision;
+  if (a == SpaceState::MaybeCollision) return b == SpaceState::MaybeCollision;
+  return false;
+}
+
+/// 8-connected Dijkstra, 1 per straight step and sqrt(2) per diagonal one;
+/// a diagonal step needs both cells beside it to be enterable (no corner cutting).
+void runDijkstra(Search& s, int start)
+{
+  using Item = std::pair<double, int>;
+  std::priority_queue<Item, std::vector<Item>, std::greater<Item>> open;
+  s.dist[start] = 0;
+  s.escape[start] = s.space[start] != SpaceState::Free;
+  open.push({0.0, start});
+  while (!open.empty())
+  {
+    const auto [d, i] = open.top();
+    open.pop();
+    if (d > s.dist[i]) continue;
+    if (s.space[i] == SpaceState::Free) s.free_settled = true;
+    const int cx = i % s.nx, cy = i / s.nx;
+    for (int k = 0; k < 8; ++k)
+    {
+      const int x = cx + kDx[k], y = cy + kDy[k];
+      if (x < 0 || y < 0 || x >= s.nx || y >= s.ny) continue;
+      const int j = x + y * s.nx;
+      if (!mayEnter(s, i, j)) continue;
+      if (k >= 4 &&
+          (!mayEnter(s, i, cx + kDx[k] + cy * s.nx) || !mayEnter(s, i, cx + (cy + kDy[k]) * s.nx)))
+        continue;
+      const double nd = d + (k < 4 ? 1.0 : kSqrt2);
+      if (s.dist[j] >= 0 && s.dist[j] <= nd) continue;
+      s.dist[j] = nd;
+      s.escape[j] = s.escape[i] && !s.free_settled && s.space[j] != SpaceState::Free;
+      open.push({nd, j});
+    }
+  }
+}
+
+/// Reached Free/MaybeCollision cell with an Unknown (or off-grid) 4-neighbour.
+bool isFrontierCell(const Search& s, int i)
+{
+  if (s.dist[i] < 0) return false;
+  if (s.space[i] != SpaceState::Free && s.space[i] != SpaceState::MaybeCollision) return false;
+  const int cx = i % s.nx, cy = i / s.nx;
+  for (int k = 0; k < 4; ++k)
+  {
+    const int x = cx + kDx[k], y = cy + kDy[k];
+    if (x < 0 || y < 0 || x >= s.nx || y >= s.ny) return true;
+    if (s.space[x + y * s.nx] == SpaceState::Unknown) return true;
+  }
+  return false;
+}
+
+/// Fills size, distance, centroid and center of a frontier from its cells.
+void describe(Frontier& f, const Search& s, const Grid<SpaceState>& g)
+{
+  const double res = g.getResolution();
+  f.size_m = static_cast<double>(f.cells.size()) * res;
+  f.distance_m = std::numeric_limits<double>::infinity();
+  f.centroid.setZero();
+  for (const Cell& c : f.cells)
+  {
+    f.distance_m = std::min(f.distance_m, s.dist[c.cx + c.cy * s.nx] * res);
+    f.centroid += cellCenter(g, c);
+  }
+  f.centroid /= static_cast<double>(f.cells.size());
+  double best = std::numeric_limits<double>::infinity();
+  for (const Cell& c : f.cells)
+  {
+    const double d2 = (cellCenter(g, c) - f.centroid).squaredNorm();
+    if (d2 < best)
+    {
+      best = d2;
+      f.center = cellCenter(g, c);
+    }
+  }
+}
+
+/// Groups frontier cells 8-connected, in row-major order of their first cell.
+std::vector<Frontier> groupFrontiers(const Search& s, const Grid<SpaceState>& g)
+{
+  const std::size_t n = s.dist.size();
+  std::vector<uint8_t> is_frontier(n, 0), taken(n, 0);
+  for (std::size_t i = 0; i < n; ++i) is_frontier[i] = isFrontierCell(s, static_cast<int>(i));
+  std::vector<Frontier> out;
+  std::vector<int> stack;
+  for (std::size_t seed = 0; seed < n; ++seed)
+  {
+    if (!is_frontier[seed] || taken[seed]) continue;
+    Frontier f;
+    stack.assign(1, static_cast<int>(seed));
+    taken[seed] = 1;
+    while (!stack.empty())
+    {
+      const int i = stack.back();
+      stack.pop_back();
+      const int cx = i % s.nx, cy = i / s.nx;
+      f.cells.push_back({cx, cy});
+      for (int k = 0; k < 8; ++k)
+      {
+        const int x = cx + kDx[k], y = cy + kDy[k];
+        if (x < 0 || y < 0 || x >= s.nx || y >= s.ny) continue;
+        const int j = x + y * s.nx;
+        if (!is_frontier[j] || taken[j]) continue;
+        taken[j] = 1;
+        stack.push_back(j);
+      }
+    }
+    describe(f, s, g);
+    out.push_back(std::move(f));
+  }
+  return out;
+}
+}  // namespace
+
+FrontierMap findFrontiers(const GroundGrid& g, const CollisionSpace& cs)
+{
+  const Grid<SpaceState>& grid = cs.state;
+  Search s;
+  s.nx = static_cast<int>(grid.getSizeX());
+  s.ny = static_cast<int>(grid.getSizeY());
+  ASSERTMSG_(inGrid(grid, g.robot.cx, g.robot.cy), "findFrontiers: the robot cell is off the grid");
+  s.space = grid.data().data();
+  s.dist.assign(grid.data().size(), -1.0);
+  s.escape.assign(grid.data().size(), 0);
+  runDijkstra(s, g.robot.cx + g.robot.cy * s.nx);
+
+  FrontierMap fm;
+  const double res = grid.getResolution();
+  const float minus_one = -1.f;
+  const uint8_t zero = 0;
+  fm.distance_m.setSize(grid.getXMin(), grid.getXMax(), grid.getYMin(), grid.getYMax(), res,
+                        &minus_one);
+  fm.reachable.setSize(grid.getXMin(), grid.getXMax(), grid.getYMin(), grid.getYMax(), res, &zero);
+  auto d_out = fm.distance_m.begin();
+  auto r_out = fm.reachable.begin();
+  for (std::size_t i = 0; i < s.dist.size(); ++i, ++d_out, ++r_out)
+  {
+    if (s.dist[i] < 0) continue;
+    *d_out = static_cast<float>(s.dist[i] * res);
+    *r_out = s.space[i] == SpaceState::Free ? 1 : 0;
+  }
+
+  fm.frontiers = groupFrontiers(s, grid);
+  // thesis 4.5.3: ascending travel distance; ties: the larger frontier first.
+  std::stable_sort(
+      fm.frontiers.begin(), fm.frontiers.end(),
+      [](const Frontier& a, const Frontier& b)
+      { return a.distance_m != b.distance_m ? a.distance_m < b.distance_m : a.size_m > b.size_m; });
+  for (std::size_t k = 0; k < fm.frontiers.size(); ++k) fm.frontiers[k].id = static_cast<int>(k);
+  return fm;
+}
+
+}  // namespace voxplore::exploration

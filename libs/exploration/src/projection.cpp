@@ -1,0 +1,253 @@
+/* voxplore — projection of the voxel space V to the ground grid G
+ * (thesis 4.5.1, algorithm 2). */
+#include <mrpt/config/CConfigFileBase.h>
+#include <mrpt/core/exceptions.h>
+#include <octomap/OcTree.h>
+#include <voxplore/common/config.h>
+#include <voxplore/exploration/stages.h>
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <vector>
+
+namespace voxplore::exploration
+{
+namespace
+{
+using KeyTriple = std::array<int, 3>;
+
+/// Half-open box of OctoMap keys: [lo, hi) per axis.
+struct KeyBox
+{
+  KeyTriple lo{0, 0, 0};
+  KeyTriple hi{0, 0, 0};
+};
+
+/// Per-column tally of the voxels in the z band (dense over the grid).
+struct ColumnTally
+{
+  std::vector<uint8_t> occupied;     ///< 1 when a voxel of the band is occupied
+  std::vector<uint16_t> free_count;  ///< free voxels of the band seen so far
+};
+
+/// Visits every leaf of the subtree at `n` (depth `depth`, lowest key `start`)
+/// that overlaps `box`, calling f(node, start, edge_in_voxels). Coarse
+/// (pruned) leaves come once with their full edge; callers clip.
+template <typename Fn>
+void visitLeaves(const octomap::OcTree& t, const octomap::OcTreeNode* n, int depth,
+                 const KeyTriple& start, const KeyBox& box, Fn&& f)
+{
+  const int edge = 1 << (static_cast<int>(t.getTreeDepth()) - depth);
+  for (int a = 0; a < 3; ++a)
+    if (start[a] >= box.hi[a] || start[a] + edge <= box.lo[a]) return;
+  if (!t.nodeHasChildren(n))
+  {
+    f(n, start, edge);
+    return;
+  }
+  const int half = edge >> 1;
+  for (unsigned i = 0; i < 8; ++i)
+  {
+    if (!t.nodeChildExists(n, i)) continue;
+    const KeyTriple child{start[0] + ((i & 1) ? half : 0), start[1] + ((i & 2) ? half : 0),
+                          start[2] + ((i & 4) ? half : 0)};
+    visitLeaves(t, t.getNodeChild(n, i), depth + 1, child, box, f);
+  }
+}
+
+/// Smallest lower key (want_min) or largest upper key (exclusive) along
+/// `axis` over all leaves: OcTree::getMetricMin/Max in keys, found by a
+/// branch-and-bound descent instead of the const getters' full leaf scans.
+void keyExtent(const octomap::OcTree& t, const octomap::OcTreeNode* n, int depth,
+               const KeyTriple& start, int axis, bool want_min, int& best)
+{
+  const int edge = 1 << (static_cast<int>(t.getTreeDepth()) - depth);
+  if (want_min ? start[axis] >= best : start[axis] + edge <= best) return;
+  if (!t.nodeHasChildren(n))
+  {
+    best = want_min ? start[axis] : start[axis] + edge;
+    return;
+  }
+  const int half = edge >> 1;
+  const unsigned bit = 1u << axis;
+  for (unsigned pass = 0; pass < 2; ++pass)  // the promising half first
+  {
+    const bool upper = want_min ? pass == 1 : pass == 0;
+    for (unsigned i = 0; i < 8; ++i)
+    {
+      if (((i & bit) != 0) != upper || !t.nodeChildExists(n, i)) continue;
+      KeyTriple child = start;
+      for (int a = 0; a < 3; ++a)
+        if (i & (1u << a)) child[a] += half;
+      keyExtent(t, t.getNodeChild(n, i), depth + 1, child, axis, want_min, best);
+    }
+  }
+}
+
+/// Grid key box: V's bounds plus margin and the robot column, in whole voxels.
+KeyBox gridKeyBox(const octomap::OcTree& V, const octomap::OcTreeKey& robot, double margin_m)
+{
+  KeyBox b;
+  b.lo = {robot[0], robot[1], 0};
+  b.hi = {robot[0] + 1, robot[1] + 1, 0};
+  if (const auto* root = V.getRoot())
+  {
+    for (int a = 0; a < 2; ++a)
+    {
+      keyExtent(V, root, 0, {0, 0, 0}, a, true, b.lo[a]);
+      keyExtent(V, root, 0, {0, 0, 0}, a, false, b.hi[a]);
+    }
+  }
+  const int margin = static_cast<int>(std::ceil(margin_m / V.getResolution() - 1e-9));
+  const int key_end = 1 << V.getTreeDepth();
+  for (int a = 0; a < 2; ++a)
+  {
+    b.lo[a] = std::max(0, b.lo[a] - margin);
+    b.hi[a] = std::min(key_end, b.hi[a] + margin);
+  }
+  return b;
+}
+
+/// One pass over the leaves of the z band into dense per-column tallies.
+ColumnTally tallyColumns(const octomap::OcTree& V, const KeyBox& box, double th_free, double th_occ)
+{
+  const int nx = box.hi[0] - box.lo[0];
+  const int ny = box.hi[1] - box.lo[1];
+  ColumnTally tally;
+  tally.occupied.assign(static_cast<std::size_t>(nx) * ny, 0);
+  tally.free_count.assign(static_cast<std::size_t>(nx) * ny, 0);
+  if (!V.getRoot()) return tally;
+  // Log-odds thresholds: comparing log-odds is comparing getOccupancy().
+  const float lo_free = static_cast<float>(octomap::logodds(th_free));
+  const float lo_occ = static_cast<float>(octomap::logodds(th_occ));
+  const auto visit = [&](const octomap::OcTreeNode* n, const KeyTriple& s, int edge)
+  {
+    const float v = n->getLogOdds();
+    const bool occupied = v > lo_occ;
+    if (!occupied && v >= lo_free) return;  // unknown: adds no free voxel
+    KeyTriple lo, hi;
+    for (int a = 0; a < 3; ++a)
+    {
+      lo[a] = std::max(s[a], box.lo[a]);
+      hi[a] = std::min(s[a] + edge, box.hi[a]);
+    }
+    const auto nz = static_cast<uint16_t>(hi[2] - lo[2]);
+    for (int ky = lo[1]; ky < hi[1]; ++ky)
+    {
+      const std::size_t row = static_cast<std::size_t>(ky - box.lo[1]) * nx;
+      for (int kx = lo[0]; kx < hi[0]; ++kx)
+      {
+        const std::size_t i = row + (kx - box.lo[0]);
+        if (occupied)
+          tally.occupied[i] = 1;
+        else
+          tally.free_count[i] = static_cast<uint16_t>(tally.free_count[i] + nz);
+      }
+    }
+  };
+  visitLeaves(V, V.getRoot(), 0, {0, 0, 0}, box, visit);
+  return tally;
+}
+
+/// Algorithm 2, lines 2-17: 4-neighbour flood fill over the column states.
+/// A cell is marked when queued rather than when taken (same result as the
+/// "already processed" test of line 5, and each cell is queued once).
+void floodFill(const ColumnTally& tally, int levels, GroundGrid& G)
+{
+  const int nx = static_cast<int>(G.state.getSizeX());
+  const int ny = static_cast<int>(G.state.getSizeY());
+  std::vector<uint8_t> queued(static_cast<std::size_t>(nx) * ny, 0);
+  std::vector<int> queue(queued.size());
+  auto* state = &*G.state.begin();
+  std::size_t tail = 0;
+  const auto push = [&](int i)
+  {
+    if (queued[i]) return;
+    queued[i] = 1;
+    queue[tail++] = i;
+  };
+  const int robot_i = G.robot.cx + G.robot.cy * nx;
+  push(robot_i);
+  for (std::size_t head = 0; head < tail; ++head)
+  {
+    const int i = queue[head];
+    if (tally.occupied[i])
+      state[i] = GroundState::Occupied;
+    // The robot stands on its own column: free even if the cameras (blind
+    // within ~1 m) never saw it, so the fill always has somewhere to start.
+    else if (tally.free_count[i] < levels && i != robot_i)
+      state[i] = GroundState::Unknown;
+    else
+    {
+      state[i] = GroundState::Free;
+      const int cx = i % nx, cy = i / nx;
+      if (cx + 1 < nx) push(i + 1);
+      if (cx > 0) push(i - 1);
+      if (cy + 1 < ny) push(i + nx);
+      if (cy > 0) push(i - nx);
+    }
+  }
+}
+}  // namespace
+
+void ProjectionParams::loadFromConfigFile(const mrpt::config::CConfigFileBase& c,
+                                          const std::string& s)
+{
+  MRPT_LOAD_CONFIG_VAR(z_min_m, double, c, s);
+  MRPT_LOAD_CONFIG_VAR(z_max_m, double, c, s);
+  MRPT_LOAD_CONFIG_VAR(th_free, int, c, s);
+  MRPT_LOAD_CONFIG_VAR(th_occ, int, c, s);
+  MRPT_LOAD_CONFIG_VAR(margin_m, double, c, s);
+  using common::requireValid;
+  requireValid(z_max_m > z_min_m, c, s, "z_max_m", "need z_max_m > z_min_m");
+  requireValid(th_free >= 0 && th_free <= 255, c, s, "th_free", "need 0 <= th_free <= 255");
+  requireValid(th_occ > th_free && th_occ <= 255, c, s, "th_occ", "need th_free < th_occ <= 255");
+  requireValid(margin_m >= 0, c, s, "margin_m", "must be >= 0");
+}
+
+void ProjectionParams::saveToConfigFile(mrpt::config::CConfigFileBase& c,
+                                        const std::string& s) const
+{
+  MRPT_SAVE_CONFIG_VAR(z_min_m, c, s);
+  MRPT_SAVE_CONFIG_VAR(z_max_m, c, s);
+  MRPT_SAVE_CONFIG_VAR(th_free, c, s);
+  MRPT_SAVE_CONFIG_VAR(th_occ, c, s);
+  MRPT_SAVE_CONFIG_VAR(margin_m, c, s);
+}
+
+GroundGrid projectToGround(const octomap::OcTree& V, const mrpt::poses::CPose2D& robot,
+                           const ProjectionParams& p)
+{
+  const double res = V.getResolution();
+  octomap::OcTreeKey robot_key;
+  ASSERTMSG_(V.coordToKeyChecked(octomap::point3d(robot.x(), robot.y(), 0.0), robot_key),
+             "projectToGround: the robot lies outside the OcTree's addressable volume");
+  // Voxels whose centre z = (k - k0 + 0.5) res lies in [z_min, z_max].
+  const int k0 = V.coordToKey(0.0);
+  const int kz_lo = k0 + static_cast<int>(std::ceil(p.z_min_m / res - 0.5 - 1e-9));
+  const int kz_hi = k0 + static_cast<int>(std::floor(p.z_max_m / res - 0.5 + 1e-9));
+  ASSERTMSG_(
+      kz_hi >= kz_lo && kz_hi - kz_lo < 65535,
+      mrpt::format("projectToGround: no voxel centre lies in [z_min_m, z_max_m] = [%g, %g] at "
+                   "resolution %g",
+                   p.z_min_m, p.z_max_m, res));
+  KeyBox box = gridKeyBox(V, robot_key, p.margin_m);
+  box.lo[2] = kz_lo;
+  box.hi[2] = kz_hi + 1;
+
+  GroundGrid G;
+  const GroundState unknown = GroundState::Unknown;
+  // Cell (cx, cy) is exactly the voxel column with keys (box.lo + (cx, cy)).
+  G.state.setSize((box.lo[0] - k0) * res, (box.hi[0] - k0) * res, (box.lo[1] - k0) * res,
+                  (box.hi[1] - k0) * res, res, &unknown);
+  ASSERT_EQUAL_(G.state.getSizeX(), static_cast<std::size_t>(box.hi[0] - box.lo[0]));
+  ASSERT_EQUAL_(G.state.getSizeY(), static_cast<std::size_t>(box.hi[1] - box.lo[1]));
+  G.robot = {robot_key[0] - box.lo[0], robot_key[1] - box.lo[1]};
+
+  const ColumnTally tally = tallyColumns(V, box, p.th_free / 255.0, p.th_occ / 255.0);
+  floodFill(tally, kz_hi - kz_lo + 1, G);
+  return G;
+}
+
+}  // namespace voxplore::exploration

@@ -1,0 +1,182 @@
+/* voxplore — entropy scan rating of a candidate pose (thesis 3.7, 4.5.4).
+ *
+ * A rating at 5 cm and beam_reduction 1 takes ~1.5 M voxel steps (24,576
+ * beams; near the cameras every voxel is crossed by ~6 beams) over ~250 k
+ * distinct voxels in ~2,000 of the octree's 8x8x8-voxel nodes. So:
+ *  - voxels are looked up in a dense window of 16-bit cells over the rating's
+ *    key box (scan_rating_window.h), filled lazily a depth-13 node at a time:
+ *    one tree search per block instead of one per step, and the cell's
+ *    "counted" bit is the distinct-voxel set (no hashing, nothing to clear);
+ *  - each beam's DDA repeats OcTree::computeRayKeys' arithmetic exactly (so
+ *    ours and rateScanNaive count the same voxels); where the CPU has AVX2
+ *    four beams step together in vector registers, their cells fetched by
+ *    one gather, and only new voxels, stops, unfilled blocks and beam ends
+ *    leave the vector path (scan_rating_avx2.cpp).
+ * Measured at 5 cm (bench_scan_rating, one core): a hash set of keys plus a
+ * hash-map cache of voxel values, one beam at a time, ~18 ms per rating at
+ * beam_reduction 1; the window, one beam at a time, ~12 ms; four AVX2 lanes:
+ * see BENCHMARKS.md.
+ */
+#include <octomap/OcTree.h>
+
+#include <algorithm>
+#include <limits>
+
+#include "scan_rating_walk.h"
+
+namespace voxplore::exploration
+{
+namespace detail
+{
+namespace
+{
+/// Visits a beam's first voxel and sets up its DDA as computeRayKeys does;
+/// false when that already finishes the beam (origin and end in one voxel,
+/// or the first voxel stops it).
+bool startBeam(const octomap::OcTree& V, const VirtualBeam& beam, const octomap::OcTreeKey& ko,
+               const octomap::OcTreeKey& ke, VoxelWindow& w, Tally& tally, BeamDda& s)
+{
+  s.end = w.addrOf(ke);
+  if (ko == ke)
+  {
+    w.visit(s.end, tally);  // computeRayKeys gives no key; the end voxel is added
+    return false;
+  }
+  s.addr = w.addrOf(ko);
+  if (w.visit(s.addr, tally)) return false;
+  octomap::point3d direction = beam.end - beam.origin;
+  const float length = static_cast<float>(direction.norm());
+  direction /= length;
+  s.length = length;
+  const double res = V.getResolution();
+  for (int i = 0; i < 3; i++)
+  {
+    const int step = direction(i) > 0.0f ? 1 : (direction(i) < 0.0f ? -1 : 0);
+    s.advance[i] = step * w.stride(i);
+    if (step != 0)
+    {
+      double border = V.keyToCoord(ko[i]);
+      border += static_cast<float>(step * res * 0.5);
+      s.t_max[i] = (border - beam.origin(i)) / direction(i);
+      s.t_delta[i] = res / std::fabs(direction(i));
+    }
+    else
+    {
+      s.t_max[i] = std::numeric_limits<double>::max();
+      s.t_delta[i] = std::numeric_limits<double>::max();
+    }
+  }
+  return true;
+}
+
+/// Larger windows (max_range_m beyond ~12 m at 5 cm) are rated by rateScanNaive.
+constexpr std::size_t kMaxWindowCells = std::size_t(1) << 25;
+
+/// Per-thread scratch reused across ratings.
+struct Scratch
+{
+  WindowStorage window;
+  RatedBeams beams;
+};
+thread_local Scratch t_scratch;
+
+/// Keys of the beams' ends into `b`; their bounding box in kmin / kmax.
+void computeKeys(const octomap::OcTree& V, RatedBeams& b, octomap::OcTreeKey& kmin,
+                 octomap::OcTreeKey& kmax)
+{
+  const std::size_t n = b.beams.size();
+  b.origin_keys.resize(n);
+  b.end_keys.resize(n);
+  b.in_tree.clear();
+  kmin = octomap::OcTreeKey(0xFFFF, 0xFFFF, 0xFFFF);
+  kmax = octomap::OcTreeKey(0, 0, 0);
+  octomap::OcTreeKey ko;
+  bool origin_ok = false;
+  for (std::size_t i = 0; i < n; i++)
+  {
+    const VirtualBeam& beam = b.beams[i];
+    if (i == 0 || !(beam.origin == b.beams[i - 1].origin))  // once per camera
+      origin_ok = V.coordToKeyChecked(beam.origin, ko);
+    octomap::OcTreeKey& ke = b.end_keys[i];
+    if (!origin_ok || !V.coordToKeyChecked(beam.end, ke))
+      continue;  // outside the tree's key range: nothing to rate (as rateScanNaive)
+    b.origin_keys[i] = ko;
+    b.in_tree.push_back(static_cast<uint32_t>(i));
+    for (int d = 0; d < 3; d++)
+    {
+      kmin[d] = std::min({kmin[d], ko[d], ke[d]});
+      kmax[d] = std::max({kmax[d], ko[d], ke[d]});
+    }
+  }
+}
+}  // namespace
+
+bool BeamFeed::pop(VoxelWindow& w, Tally& tally, BeamDda& s)
+{
+  while (next_ < beams_.in_tree.size())
+  {
+    const uint32_t i = beams_.in_tree[next_++];
+    if (startBeam(V_, beams_.beams[i], beams_.origin_keys[i], beams_.end_keys[i], w, tally, s))
+      return true;
+  }
+  return false;
+}
+
+void finishBeam(BeamDda& s, VoxelWindow& w, Tally& tally)
+{
+  double* t = s.t_max;
+  for (;;)
+  {
+    // computeRayKeys: x if tx < ty and tx < tz; else y if ty < tz; else z.
+    const int a = t[0] < t[1] ? (t[0] < t[2] ? 0 : 2) : (t[1] < t[2] ? 1 : 2);
+    t[a] += s.t_delta[a];
+    s.addr += s.advance[a];
+    if (s.addr == s.end) break;
+    // Rounding may step past the end voxel: stop where computeRayKeys stops.
+    if (std::min(std::min(t[0], t[1]), t[2]) > s.length) break;
+    if (w.visit(s.addr, tally)) return;
+  }
+  w.visit(s.end, tally);
+}
+
+void walkBeamsScalar(BeamFeed& feed, VoxelWindow& w, Tally& tally)
+{
+  BeamDda s;
+  while (feed.pop(w, tally, s)) finishBeam(s, w, tally);
+}
+}  // namespace detail
+
+ScanRating rateScan(const octomap::OcTree& V, const mrpt::poses::CPose2D& pose, const ScanRatingParams& p)
+{
+  detail::checkRatingParams(p);
+  detail::Scratch& sc = detail::t_scratch;
+  detail::virtualBeams(pose, p, sc.beams.beams);
+  ScanRating out;
+  out.beams = sc.beams.beams.size();
+
+  // The keys' bounding box (plus DDA rounding slack) holds every voxel a
+  // beam can visit.
+  octomap::OcTreeKey kmin, kmax;
+  detail::computeKeys(V, sc.beams, kmin, kmax);
+  if (sc.beams.in_tree.empty()) return out;
+  std::size_t n[3];
+  for (int d = 0; d < 3; d++)
+  {
+    // 2 voxels of slack, aligned to the 8-voxel blocks of depth 13.
+    kmin[d] = static_cast<octomap::key_type>(std::max(int(kmin[d]) - 2, 0) & ~7);
+    const unsigned hi = std::min(unsigned(kmax[d]) + 2u, 0xFFFFu);
+    n[d] = ((hi - kmin[d]) | 7u) + 1;
+  }
+  if (n[0] * n[1] * n[2] > detail::kMaxWindowCells) return rateScanNaive(V, pose, p);
+
+  detail::VoxelWindow window(V, detail::stopLogOdds(p.th_occ), kmin, n, sc.window);
+  detail::Tally tally;
+  detail::BeamFeed feed(V, sc.beams);
+  if (!detail::walkBeamsAvx2(feed, window, tally)) detail::walkBeamsScalar(feed, window, tally);
+  out.voxels = tally.voxels;
+  out.unknown_voxels = tally.unknown;
+  out.gain = tally.gain;
+  return out;
+}
+
+}  // namespace voxplore::exploration

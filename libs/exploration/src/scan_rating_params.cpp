@@ -1,0 +1,201 @@
+/* voxplore — scan rating: parameters, virtual beams and the choice of the
+ * best-rated pose (thesis 4.5.4 "Scan Rating"). */
+#include <mrpt/core/bits_math.h>
+#include <mrpt/poses/CPose3D.h>
+#include <voxplore/common/config.h>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <sstream>
+#include <stdexcept>
+#include <string>
+
+#include "scan_rating_beams.h"
+
+namespace voxplore::exploration
+{
+using mrpt::poses::CPose3D;
+
+namespace
+{
+/// The omniRob ring of 8 cameras, identical to sim::CameraRigParams::ringAround
+/// (libs/exploration must not depend on libs/sim): front, +-40 deg front pair,
+/// sides, rear pair and rear; each camera where its viewing direction leaves
+/// the footprint rectangle, pitched down by vfov/2 (top image row horizontal).
+std::vector<CPose3D> omniRobRing(double length_m, double width_m, double height_m, double vfov_rad)
+{
+  const double yaws_deg[] = {0, 40, -40, 90, -90, 140, -140, 180};
+  const double hl = 0.5 * length_m, hw = 0.5 * width_m;
+  std::vector<CPose3D> out;
+  for (double yd : yaws_deg)
+  {
+    const double yaw = mrpt::DEG2RAD(yd);
+    const double c = std::cos(yaw), s = std::sin(yaw);
+    const double tx = std::abs(c) > 1e-9 ? hl / std::abs(c) : std::numeric_limits<double>::max();
+    const double ty = std::abs(s) > 1e-9 ? hw / std::abs(s) : std::numeric_limits<double>::max();
+    const double t = std::min(tx, ty);
+    out.emplace_back(t * c, t * s, height_m, yaw, 0.5 * vfov_rad, 0.0);
+  }
+  return out;
+}
+
+std::string camKey(int i) { return "cam" + std::to_string(i) + "_pose"; }
+
+/// Replaces p.mounts by camN_pose (N < num_cameras) when any is given; all or none.
+void loadMounts(
+    ScanRatingParams& p, int num_cameras, const mrpt::config::CConfigFileBase& c,
+    const std::string& s)
+{
+  using common::requireValid;
+  int given = 0;
+  for (int i = 0; i < num_cameras; i++) given += c.keyExists(s, camKey(i)) ? 1 : 0;
+  if (given == 0)
+  {
+    requireValid(num_cameras == static_cast<int>(p.mounts.size()), c, s, "num_cameras",
+                 "differs from the " + std::to_string(p.mounts.size()) +
+                     " default cameras: give camN_pose = x y z yaw_deg pitch_deg roll_deg for "
+                     "every camera");
+    return;
+  }
+  std::vector<CPose3D> mounts(num_cameras);
+  for (int i = 0; i < num_cameras; i++)
+  {
+    const std::string key = camKey(i);
+    if (!c.keyExists(s, key))
+      throw std::runtime_error(common::configSourceName(c) + ": [" + s + "] " + key +
+                               " missing: when any camN_pose is given, give all " +
+                               std::to_string(num_cameras) + " (x y z yaw_deg pitch_deg roll_deg)");
+    const auto v = common::parseNumberList(
+        c.read_string(s, key, ""), common::configSourceName(c) + ": [" + s + "] " + key);
+    requireValid(v.size() == 6, c, s, key, "expected 'x y z yaw_deg pitch_deg roll_deg'");
+    mounts[i] = CPose3D(v[0], v[1], v[2], mrpt::DEG2RAD(v[3]), mrpt::DEG2RAD(v[4]),
+                        mrpt::DEG2RAD(v[5]));
+  }
+  p.mounts = std::move(mounts);
+}
+}  // namespace
+
+ScanRatingParams::ScanRatingParams() : mounts(omniRobRing(1.2, 0.712, 0.60, vfov)) {}
+
+void ScanRatingParams::loadFromConfigFile(
+    const mrpt::config::CConfigFileBase& c, const std::string& s)
+{
+  int num_cameras = static_cast<int>(mounts.size());
+  MRPT_LOAD_CONFIG_VAR(beam_reduction, int, c, s);
+  MRPT_LOAD_CONFIG_VAR(max_range_m, double, c, s);
+  MRPT_LOAD_CONFIG_VAR(th_occ, int, c, s);
+  MRPT_LOAD_CONFIG_VAR(width_px, int, c, s);
+  MRPT_LOAD_CONFIG_VAR(height_px, int, c, s);
+  MRPT_LOAD_CONFIG_VAR_DEGREES(hfov, c, s);
+  MRPT_LOAD_CONFIG_VAR_DEGREES(vfov, c, s);
+  MRPT_LOAD_CONFIG_VAR(num_cameras, int, c, s);
+  using common::requireValid;
+  requireValid(beam_reduction >= 1, c, s, "beam_reduction", "must be >= 1");
+  requireValid(max_range_m > 0, c, s, "max_range_m", "must be > 0");
+  requireValid(th_occ >= 0 && th_occ <= 255, c, s, "th_occ", "must be in 0..255");
+  requireValid(width_px > 0, c, s, "width_px", "must be > 0");
+  requireValid(height_px > 0, c, s, "height_px", "must be > 0");
+  requireValid(hfov > 0 && hfov < M_PI, c, s, "hfov", "must be in (0, 180) deg");
+  requireValid(vfov > 0 && vfov < M_PI, c, s, "vfov", "must be in (0, 180) deg");
+  requireValid(num_cameras > 0, c, s, "num_cameras", "need at least one camera");
+  loadMounts(*this, num_cameras, c, s);
+}
+
+void ScanRatingParams::saveToConfigFile(mrpt::config::CConfigFileBase& c, const std::string& s) const
+{
+  const int num_cameras = static_cast<int>(mounts.size());
+  MRPT_SAVE_CONFIG_VAR(beam_reduction, c, s);
+  MRPT_SAVE_CONFIG_VAR(max_range_m, c, s);
+  MRPT_SAVE_CONFIG_VAR(th_occ, c, s);
+  MRPT_SAVE_CONFIG_VAR(width_px, c, s);
+  MRPT_SAVE_CONFIG_VAR(height_px, c, s);
+  MRPT_SAVE_CONFIG_VAR_DEGREES(hfov, c, s);
+  MRPT_SAVE_CONFIG_VAR_DEGREES(vfov, c, s);
+  MRPT_SAVE_CONFIG_VAR(num_cameras, c, s);
+  for (int i = 0; i < num_cameras; i++)
+  {
+    const auto& m = mounts[i];
+    std::ostringstream os;
+    os.precision(12);
+    os << m.x() << " " << m.y() << " " << m.z() << " " << mrpt::RAD2DEG(m.yaw()) << " "
+       << mrpt::RAD2DEG(m.pitch()) << " " << mrpt::RAD2DEG(m.roll());
+    c.write(s, camKey(i), os.str());
+  }
+}
+
+namespace detail
+{
+void checkRatingParams(const ScanRatingParams& p)
+{
+  auto require = [](bool ok, const char* what)
+  {
+    if (!ok) throw std::invalid_argument(std::string("ScanRatingParams: ") + what);
+  };
+  require(!p.mounts.empty(), "mounts is empty (need at least one camera)");
+  require(p.beam_reduction >= 1, "beam_reduction must be >= 1");
+  require(p.max_range_m > 0 && std::isfinite(p.max_range_m), "max_range_m must be > 0");
+  require(p.width_px > 0 && p.height_px > 0, "width_px and height_px must be > 0");
+  require(p.hfov > 0 && p.hfov < M_PI && p.vfov > 0 && p.vfov < M_PI,
+          "hfov and vfov must be in (0, pi)");
+  require(p.th_occ >= 0 && p.th_occ <= 255, "th_occ must be in 0..255");
+}
+
+void virtualBeams(
+    const mrpt::poses::CPose2D& pose, const ScanRatingParams& p, std::vector<VirtualBeam>& out)
+{
+  // MRPT depth-camera frame: +X forward, +Y left, +Z up; u grows to the right
+  // (-Y), v grows down (-Z); same intrinsics as sim::CameraRigParams.
+  const double fx = 0.5 * p.width_px / std::tan(0.5 * p.hfov);
+  const double fy = 0.5 * p.height_px / std::tan(0.5 * p.vfov);
+  const double cx = 0.5 * (p.width_px - 1), cy = 0.5 * (p.height_px - 1);
+  const int r = p.beam_reduction;
+  out.clear();
+  out.reserve(static_cast<std::size_t>((p.width_px + r - 1) / r) *
+              static_cast<std::size_t>((p.height_px + r - 1) / r) * p.mounts.size());
+  const CPose3D T_world_robot(pose);  // robot on the floor, z = 0
+  for (const CPose3D& T_robot_camera : p.mounts)
+  {
+    const CPose3D T_world_camera = T_world_robot + T_robot_camera;
+    const auto R = T_world_camera.getRotationMatrix();
+    const double tx = T_world_camera.x(), ty = T_world_camera.y(), tz = T_world_camera.z();
+    const octomap::point3d origin(static_cast<float>(tx), static_cast<float>(ty),
+                                  static_cast<float>(tz));
+    for (int v = 0; v < p.height_px; v += r)
+    {
+      for (int u = 0; u < p.width_px; u += r)
+      {
+        // end = T_world_camera * (k (1, dy, dz)), k = max_range / |(1, dy, dz)|
+        const double dy = (cx - u) / fx, dz = (cy - v) / fy;
+        const double k = p.max_range_m / std::sqrt(1.0 + dy * dy + dz * dz);
+        const double lx = k, ly = dy * k, lz = dz * k;
+        out.push_back({origin, octomap::point3d(
+                                   static_cast<float>(tx + R(0, 0) * lx + R(0, 1) * ly + R(0, 2) * lz),
+                                   static_cast<float>(ty + R(1, 0) * lx + R(1, 1) * ly + R(1, 2) * lz),
+                                   static_cast<float>(tz + R(2, 0) * lx + R(2, 1) * ly + R(2, 2) * lz))});
+      }
+    }
+  }
+}
+}  // namespace detail
+
+std::optional<std::size_t> bestRated(const std::vector<ScanRating>& ratings)
+{
+  std::optional<std::size_t> best;
+  for (std::size_t i = 0; i < ratings.size(); i++)
+  {
+    const double g = ratings[i].gain;
+    if (!(g > 0)) continue;  // 0 (nothing to learn) or NaN never wins
+    if (!best)
+    {
+      best = i;
+      continue;
+    }
+    const double gb = ratings[*best].gain;
+    // A tie (within 1e-9 relative) keeps the lower index: the sampler's order.
+    if (g > gb && g - gb > 1e-9 * std::max(g, gb)) best = i;
+  }
+  return best;
+}
+
+}  // namespace voxplore::exploration

@@ -1,0 +1,87 @@
+/* voxplore — stop-and-scan driving: one waypoint at a time with MRPT's reactive navigator. */
+#pragma once
+
+#include <mrpt/poses/CPose2D.h>
+#include <voxplore/navigation/DriverParams.h>
+#include <voxplore/navigation/RobotInterface.h>
+
+#include <Eigen/Core>
+#include <cstddef>
+#include <memory>
+#include <optional>
+#include <string>
+
+namespace voxplore::navigation
+{
+/// @brief How a drive to one waypoint ended.
+enum class DriveOutcome
+{
+  Reached,  ///< within goal_tolerance_m (and yaw_tolerance when a yaw was asked)
+  Blocked,  ///< no progress for blocked_timeout_s, or an obstacle seen at the waypoint
+  Timeout,  ///< timeout_s / max_steps / rotate_timeout_s ran out while still progressing
+  Error     ///< a collision, a sensor failure or a navigator error (see message)
+};
+
+const char* toString(DriveOutcome o);
+
+/// @brief Result of StopAndScanDriver::driveTo(). The robot stands still in every case.
+struct DriveResult
+{
+  DriveOutcome outcome = DriveOutcome::Error;
+  mrpt::poses::CPose2D final_pose;  ///< RobotInterface::pose() at the end (map frame)
+  double goal_distance_m = 0;       ///< final distance to the waypoint [m]
+  double distance_m = 0;            ///< path length driven, from pose() [m]
+  double sim_time_s = 0;            ///< robot time spent (RobotInterface::now()) [s]
+  std::size_t steps = 0;            ///< RobotInterface::step() calls
+  std::size_t collisions = 0;       ///< new collisions the robot reported (0 without a bumper)
+  std::string message;              ///< why it ended, for the user
+
+  bool reached() const { return outcome == DriveOutcome::Reached; }
+};
+
+/// @brief Drives a RobotInterface to waypoints with
+///        mrpt::nav::CReactiveNavigationSystem (CPTG_Holo_Blend + CHolonomicND,
+///        the robot as the circle round its footprint), stopping at each one:
+///        MRPT does not stop at intermediate waypoints, so each driveTo()
+///        sends a single target and waits for the navigator to go idle.
+///
+/// Time is the robot's (RobotInterface::now(), equal to mrpt::Clock::now());
+/// with a simulated robot every run is deterministic.
+class StopAndScanDriver
+{
+ public:
+  /// @throws std::runtime_error when MRPT rejects the configuration.
+  StopAndScanDriver(RobotInterface& robot, const DriverParams& params);
+  ~StopAndScanDriver();
+  StopAndScanDriver(const StopAndScanDriver&) = delete;
+  StopAndScanDriver& operator=(const StopAndScanDriver&) = delete;
+
+  /// @brief Drives to `waypoint` (map frame), stops, then turns in place to
+  ///        `final_yaw_rad` when given and the waypoint was reached. Runs
+  ///        navigationStep() then RobotInterface::step(dt_s) until the
+  ///        navigator reports the target reached or an error, a sensed
+  ///        obstacle lies within the footprint's circumradius of the
+  ///        waypoint (3 steps in a row), timeout_s, blocked_timeout_s without
+  ///        progress, a collision, a sensor failure, or max_steps.
+  /// @return the outcome; never hangs (at most max_steps steps for the
+  ///         drive plus rotate_timeout_s / dt_s steps for the rotation).
+  /// @throws std::runtime_error when RobotInterface::now() and
+  ///         mrpt::Clock::now() disagree (a simulator that did not switch
+  ///         MRPT to its simulated clock).
+  DriveResult driveTo(const Eigen::Vector2d& waypoint, std::optional<double> final_yaw_rad);
+
+  /// @brief Turns in place to `yaw_rad` (P-controller on the yaw error).
+  /// @return Reached within yaw_tolerance, Timeout after rotate_timeout_s,
+  ///         Error on a collision.
+  DriveResult rotateTo(double yaw_rad);
+
+  const DriverParams& params() const { return params_; }
+
+ private:
+  struct Impl;
+  DriverParams params_;
+  RobotInterface& robot_;
+  std::unique_ptr<Impl> impl_;
+};
+
+}  // namespace voxplore::navigation

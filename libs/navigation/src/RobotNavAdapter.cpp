@@ -1,0 +1,138 @@
+#include "RobotNavAdapter.h"
+
+#include <mrpt/kinematics/CVehicleVelCmd_Holo.h>
+
+#include <cmath>
+#include <cstdint>
+#include <unordered_set>
+
+namespace voxplore::navigation
+{
+double RobotNavAdapter::nowSeconds() const
+{
+  return mrpt::Clock::toDouble(robot_.now());
+}
+
+void RobotNavAdapter::applyCommand(double dt_s)
+{
+  if (!moving_)
+  {
+    robot_.stop();
+    return;
+  }
+  const auto twist = holoTwistAt(ramp_, nowSeconds(), dt_s, robot_.pose().phi());
+  robot_.setVelocity(twist.vx, twist.vy, twist.omega);
+}
+
+void RobotNavAdapter::clearCommand()
+{
+  moving_ = false;
+  ramp_ = stoppedHoloRamp(nowSeconds());
+}
+
+bool RobotNavAdapter::getCurrentPoseAndSpeeds(mrpt::math::TPose2D& pose,
+                                              mrpt::math::TTwist2D& vel_global,
+                                              mrpt::system::TTimeStamp& timestamp,
+                                              mrpt::math::TPose2D& odometry, std::string& frame_id)
+{
+  pose = robot_.pose().asTPose();
+  vel_global = robot_.velocity();
+  vel_global.rotate(pose.phi);  // robot frame -> map frame
+  timestamp = robot_.now();
+  odometry = robot_.odometry().asTPose();
+  frame_id = "map";
+  return true;
+}
+
+bool RobotNavAdapter::changeSpeeds(const mrpt::kinematics::CVehicleVelCmd& cmd)
+{
+  const auto* holo = dynamic_cast<const mrpt::kinematics::CVehicleVelCmd_Holo*>(&cmd);
+  if (!holo)
+  {
+    MRPT_LOG_ERROR_STREAM("changeSpeeds: expected a CVehicleVelCmd_Holo (holonomic PTG), got "
+                          << cmd.GetRuntimeClass()->className);
+    return false;
+  }
+  if (holo->isStopCmd())
+  {
+    clearCommand();
+    return true;
+  }
+  ramp_ = startHoloRamp(*holo, nowSeconds(), robot_.pose().phi(), robot_.velocity());
+  moving_ = true;
+  return true;
+}
+
+bool RobotNavAdapter::stop([[maybe_unused]] bool is_emergency_stop)
+{
+  // Our platforms stop within one step; a ramped (non-emergency) stop would
+  // only delay the scan.
+  clearCommand();
+  robot_.stop();
+  return true;
+}
+
+mrpt::kinematics::CVehicleVelCmd::Ptr RobotNavAdapter::getEmergencyStopCmd()
+{
+  return std::make_shared<mrpt::kinematics::CVehicleVelCmd_Holo>(0.0, 0.0, 0.1, 0.0);
+}
+
+mrpt::kinematics::CVehicleVelCmd::Ptr RobotNavAdapter::getStopCmd()
+{
+  return std::make_shared<mrpt::kinematics::CVehicleVelCmd_Holo>(0.0, 0.0, 1.0, 0.0);
+}
+
+void RobotNavAdapter::setObstacleFilter(double max_range_m, double cell_m, double z_min_m,
+                                        double z_max_m)
+{
+  max_range_m_ = max_range_m;
+  cell_m_ = cell_m;
+  z_min_m_ = z_min_m;
+  z_max_m_ = z_max_m;
+}
+
+bool RobotNavAdapter::senseObstacles(mrpt::maps::CSimplePointsMap& obstacles,
+                                     mrpt::system::TTimeStamp& timestamp)
+{
+  timestamp = robot_.now();
+  obstacles.clear();
+  last_obstacles_.clear();
+  if (!robot_.obstacles(raw_))
+  {
+    events_.sensor_failures++;
+    return false;
+  }
+  // Thin out: height band, range, one point per XY cell (first come, first kept).
+  std::unordered_set<std::int64_t> cells;
+  const auto& xs = raw_.getPointsBufferRef_x();
+  const auto& ys = raw_.getPointsBufferRef_y();
+  const auto& zs = raw_.getPointsBufferRef_z();
+  const double r2 = max_range_m_ * max_range_m_;
+  for (std::size_t i = 0; i < xs.size(); i++)
+  {
+    const double x = xs[i], y = ys[i], z = zs[i];
+    if (z < z_min_m_ || z > z_max_m_ || x * x + y * y > r2) continue;
+    if (cell_m_ > 0)
+    {
+      const auto cx = static_cast<std::int64_t>(std::floor(x / cell_m_));
+      const auto cy = static_cast<std::int64_t>(std::floor(y / cell_m_));
+      if (!cells.insert((cx << 32) ^ (cy & 0xffffffff)).second) continue;
+    }
+    obstacles.insertPoint(static_cast<float>(x), static_cast<float>(y), static_cast<float>(z));
+  }
+  last_obstacles_ = obstacles;
+  last_obstacles_pose_ = robot_.pose();
+  return true;
+}
+
+double RobotNavAdapter::getNavigationTime()
+{
+  return nowSeconds() - nav_timer_start_s_;
+}
+
+void RobotNavAdapter::resetNavigationTimer()
+{
+  nav_timer_start_s_ = nowSeconds();
+}
+
+}  // namespace voxplore::navigation

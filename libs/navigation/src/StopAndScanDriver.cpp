@@ -1,0 +1,326 @@
+#include <mrpt/config/CConfigFileMemory.h>
+#include <mrpt/core/format.h>
+#include <mrpt/math/wrap2pi.h>
+#include <mrpt/nav/reactive/CReactiveNavigationSystem.h>
+#include <voxplore/navigation/StopAndScanDriver.h>
+
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+#include <utility>
+
+#include "RobotNavAdapter.h"
+
+namespace voxplore::navigation
+{
+using mrpt::nav::CAbstractNavigator;
+using mrpt::poses::CPose2D;
+
+const char* toString(DriveOutcome o)
+{
+  switch (o)
+  {
+    case DriveOutcome::Reached:
+      return "reached";
+    case DriveOutcome::Blocked:
+      return "blocked";
+    case DriveOutcome::Timeout:
+      return "timeout";
+    case DriveOutcome::Error:
+      return "error";
+  }
+  return "?";
+}
+
+namespace
+{
+using Ending = std::optional<std::pair<DriveOutcome, std::string>>;
+
+double seconds(const RobotInterface& robot)
+{
+  return mrpt::Clock::toDouble(robot.now());
+}
+
+std::size_t collisionsOf(const RobotInterface& robot)
+{
+  return robot.collisionCount().value_or(0);
+}
+
+double distanceTo(const CPose2D& p, const Eigen::Vector2d& goal)
+{
+  return std::hypot(goal.x() - p.x(), goal.y() - p.y());
+}
+
+// Bookkeeping of one drive: path length, progress, collisions.
+struct DriveLog
+{
+  double t0_s = 0, best_dist_m = 0, t_best_s = 0, path_m = 0;
+  std::size_t steps = 0, collisions0 = 0;
+  int target_blocked_steps = 0;  ///< consecutive steps with an obstacle at the target
+  CPose2D last;
+
+  DriveLog(const RobotInterface& robot, double dist_m)
+      : t0_s(seconds(robot)),
+        best_dist_m(dist_m),
+        t_best_s(t0_s),
+        collisions0(collisionsOf(robot)),
+        last(robot.pose())
+  {
+  }
+
+  void afterStep(const RobotInterface& robot)
+  {
+    steps++;
+    const CPose2D p = robot.pose();
+    path_m += std::hypot(p.x() - last.x(), p.y() - last.y());
+    last = p;
+  }
+
+  void fill(DriveResult& r, const RobotInterface& robot) const
+  {
+    r.final_pose = robot.pose();
+    r.distance_m += path_m;
+    r.sim_time_s += seconds(robot) - t0_s;
+    r.steps += steps;
+    r.collisions += collisionsOf(robot) - collisions0;
+  }
+};
+
+// CReactiveNavigationSystem whose delay statistics (CAbstractNavigator's
+// always-enabled m_timlog_delays) are not dumped to the console on destruction.
+class QuietReactiveNavigator : public mrpt::nav::CReactiveNavigationSystem
+{
+ public:
+  QuietReactiveNavigator(mrpt::nav::CRobot2NavInterface& robot, bool verbose)
+      : CReactiveNavigationSystem(robot, verbose /*console output*/, false /*no log files*/)
+  {
+    m_timlog_delays.enable(verbose);
+  }
+};
+}  // namespace
+
+struct StopAndScanDriver::Impl
+{
+  RobotNavAdapter adapter;
+  QuietReactiveNavigator nav;
+
+  Impl(RobotInterface& robot, bool verbose) : adapter(robot), nav(adapter, verbose) {}
+};
+
+StopAndScanDriver::StopAndScanDriver(RobotInterface& robot, const DriverParams& params)
+    : params_(params), robot_(robot), impl_(std::make_unique<Impl>(robot, params.verbose))
+{
+  const auto level = params.verbose ? mrpt::system::LVL_INFO : mrpt::system::LVL_ERROR;
+  impl_->nav.setMinLoggingLevel(level);
+  impl_->adapter.setMinLoggingLevel(level);
+  impl_->nav.enableRethrowNavExceptions(true);
+  impl_->adapter.setObstacleFilter(params.ref_distance_m + params.robotRadius(),
+                                   params.obstacle_cell_m, params.min_obstacle_height_m,
+                                   params.max_obstacle_height_m);
+  mrpt::config::CConfigFileMemory cfg;
+  params.writeMrptConfig(cfg);
+  try
+  {
+    impl_->nav.loadConfigFile(cfg);
+    impl_->nav.initialize();
+  }
+  catch (const std::exception& e)
+  {
+    throw std::runtime_error(
+        std::string("StopAndScanDriver: MRPT's reactive navigator rejected the [navigation] "
+                    "settings: ") +
+        e.what());
+  }
+}
+
+StopAndScanDriver::~StopAndScanDriver() = default;
+
+namespace
+{
+void checkClocks(const RobotInterface& robot)
+{
+  const double skew_s = mrpt::Clock::nowDouble() - seconds(robot);
+  if (std::abs(skew_s) > 1.0)
+    throw std::runtime_error(mrpt::format(
+        "StopAndScanDriver: RobotInterface::now() and mrpt::Clock::now() differ by %.3f s; a "
+        "simulated robot must call mrpt::Clock::setActiveClock(mrpt::Clock::Simulated) and "
+        "advance it in step()",
+        skew_s));
+}
+
+// What the navigator says after a navigationStep(); empty while it navigates.
+Ending navigatorEnding(const mrpt::nav::CReactiveNavigationSystem& nav, const NavEvents& ev,
+                       double dist_m, double tolerance_m)
+{
+  // MRPT only logs "Error while loading and sorting the obstacles. Robot will
+  // be stopped." and stays NAVIGATING when senseObstacles() fails.
+  if (ev.sensor_failures > 0) return {{DriveOutcome::Error, "the robot's obstacle sensors failed"}};
+  switch (nav.getCurrentState())
+  {
+    case CAbstractNavigator::IDLE:
+      if (ev.ended || dist_m <= tolerance_m)
+        return {{DriveOutcome::Reached, mrpt::format("reached within %.3f m", dist_m)}};
+      return {{DriveOutcome::Error, "the navigator went idle without reaching the target"}};
+    case CAbstractNavigator::NAV_ERROR:
+    {
+      const auto& why = nav.getErrorReason();
+      const bool blocked =
+          why.error_code == CAbstractNavigator::ERR_CANNOT_REACH_TARGET || ev.way_blocked;
+      return {{blocked ? DriveOutcome::Blocked : DriveOutcome::Error,
+               "navigator error: " + why.error_msg}};
+    }
+    default:
+      return std::nullopt;
+  }
+}
+
+// The waypoint is blocked when an obstacle point of this step lies within the
+// footprint's circumradius of it, kHysteresis steps in a row, while the robot is
+// close enough to see round it. (Replaces MRPT's dist_check_target_is_blocked,
+// see DriverParams::writeMrptConfig.)
+Ending targetBlockedEnding(const RobotNavAdapter& adapter, const DriverParams& params,
+                           DriveLog& log, const Eigen::Vector2d& waypoint, double dist_m)
+{
+  constexpr double kCheckWithin_m = 1.0;  // beyond robotRadius()
+  constexpr int kHysteresis = 3;
+  const double r_m = params.robotRadius() - params.shape_margin_m;
+  bool hit = false;
+  if (dist_m < params.robotRadius() + kCheckWithin_m)
+  {
+    double lx, ly;  // the waypoint in the robot frame the points were sensed in
+    adapter.lastObstaclesPose().inverseComposePoint(waypoint.x(), waypoint.y(), lx, ly);
+    const auto& xs = adapter.lastObstacles().getPointsBufferRef_x();
+    const auto& ys = adapter.lastObstacles().getPointsBufferRef_y();
+    for (std::size_t i = 0; i < xs.size() && !hit; i++)
+      hit = std::hypot(xs[i] - lx, ys[i] - ly) < r_m;
+  }
+  log.target_blocked_steps = hit ? log.target_blocked_steps + 1 : 0;
+  if (log.target_blocked_steps < kHysteresis) return std::nullopt;
+  return {
+      {DriveOutcome::Blocked,
+       mrpt::format("the waypoint lies within %.3f m (the footprint's circumradius) of a sensed "
+                    "obstacle",
+                    r_m)}};
+}
+
+// Collisions, progress, time and step limits after one RobotInterface::step().
+Ending checkAfterStep(const RobotInterface& robot, const DriverParams& params, DriveLog& log,
+                      const Eigen::Vector2d& waypoint)
+{
+  const CPose2D p = robot.pose();
+  const double d = distanceTo(p, waypoint);
+  const double t = seconds(robot);
+  if (collisionsOf(robot) > log.collisions0)
+    return {{DriveOutcome::Error,
+             mrpt::format("the robot reported a collision at (%.3f, %.3f)", p.x(), p.y())}};
+  if (d < log.best_dist_m - params.progress_min_m)
+  {
+    log.best_dist_m = d;
+    log.t_best_s = t;
+  }
+  else if (t - log.t_best_s > params.blocked_timeout_s)
+    return {{DriveOutcome::Blocked, mrpt::format("no progress for %.1f s; closest approach %.3f m",
+                                                 params.blocked_timeout_s, log.best_dist_m)}};
+  if (t - log.t0_s > params.timeout_s)
+    return {{DriveOutcome::Timeout, mrpt::format("timeout_s = %.1f s elapsed", params.timeout_s)}};
+  if (log.steps >= static_cast<std::size_t>(params.max_steps))
+    return {{DriveOutcome::Timeout, mrpt::format("hit max_steps = %d", params.max_steps)}};
+  return std::nullopt;
+}
+}  // namespace
+
+DriveResult StopAndScanDriver::driveTo(const Eigen::Vector2d& waypoint,
+                                       std::optional<double> final_yaw_rad)
+{
+  checkClocks(robot_);
+  auto& nav = impl_->nav;
+  auto& adapter = impl_->adapter;
+  if (nav.getCurrentState() == CAbstractNavigator::NAV_ERROR) nav.resetNavError();
+  adapter.resetEvents();
+  adapter.clearCommand();
+
+  CAbstractNavigator::TNavigationParams np;
+  np.target.target_coords = mrpt::math::TPose2D(waypoint.x(), waypoint.y(), 0.0);
+  np.target.targetAllowedDistance = static_cast<float>(params_.goal_tolerance_m);
+  np.target.targetDesiredRelSpeed = 0.0;  // slow down and stop at the target
+  nav.navigate(&np);
+
+  DriveLog log(robot_, distanceTo(robot_.pose(), waypoint));
+  Ending end;
+  while (!end)
+  {
+    try  // 1. one navigator step: reads pose, speeds and obstacles, sends a command
+    {
+      nav.navigationStep();
+      const double dist_m = distanceTo(robot_.pose(), waypoint);
+      end = navigatorEnding(nav, adapter.events(), dist_m, params_.goal_tolerance_m);
+      if (!end) end = targetBlockedEnding(adapter, params_, log, waypoint, dist_m);
+    }
+    catch (const std::exception& e)
+    {
+      end = {{DriveOutcome::Error, std::string("navigator exception: ") + e.what()}};
+    }
+    if (end) break;
+    // 2. execute the command for dt, then check collisions, progress, time, steps
+    adapter.applyCommand(params_.dt_s);
+    robot_.step(params_.dt_s);
+    log.afterStep(robot_);
+    end = checkAfterStep(robot_, params_, log, waypoint);
+  }
+
+  // Stop in every case: cancel the navigation, zero velocity.
+  if (nav.getCurrentState() == CAbstractNavigator::NAVIGATING) nav.cancel();
+  if (nav.getCurrentState() == CAbstractNavigator::NAV_ERROR) nav.resetNavError();
+  adapter.clearCommand();
+  robot_.stop();
+
+  DriveResult res;
+  res.outcome = end->first;
+  res.message = end->second;
+  log.fill(res, robot_);
+  res.goal_distance_m = distanceTo(res.final_pose, waypoint);
+  if (res.reached() && final_yaw_rad)
+  {
+    const DriveResult rot = rotateTo(*final_yaw_rad);
+    res.outcome = rot.outcome;
+    res.message += "; " + rot.message;
+    res.final_pose = rot.final_pose;
+    res.sim_time_s += rot.sim_time_s;
+    res.steps += rot.steps;
+    res.collisions += rot.collisions;
+    res.distance_m += rot.distance_m;
+  }
+  return res;
+}
+
+DriveResult StopAndScanDriver::rotateTo(double yaw_rad)
+{
+  DriveLog log(robot_, 0.0);
+  const int max_rot_steps = static_cast<int>(std::ceil(params_.rotate_timeout_s / params_.dt_s));
+  Ending end;
+  for (int i = 0; !end; i++)
+  {
+    const double err = mrpt::math::wrapToPi(yaw_rad - robot_.pose().phi());
+    if (collisionsOf(robot_) > log.collisions0)
+      end = {DriveOutcome::Error, "the robot reported a collision while turning"};
+    else if (std::abs(err) <= params_.yaw_tolerance)
+      end = {DriveOutcome::Reached, mrpt::format("yaw error %.2f deg", mrpt::RAD2DEG(err))};
+    else if (i >= max_rot_steps)
+      end = {DriveOutcome::Timeout,
+             mrpt::format("rotation: yaw error %.2f deg after rotate_timeout_s = %.1f s",
+                          mrpt::RAD2DEG(err), params_.rotate_timeout_s)};
+    if (end) break;
+    const double w = std::clamp(params_.yaw_gain * err, -params_.max_w, params_.max_w);
+    robot_.setVelocity(0.0, 0.0, w);
+    robot_.step(params_.dt_s);
+    log.afterStep(robot_);
+  }
+  robot_.stop();
+  DriveResult res;
+  res.outcome = end->first;
+  res.message = end->second;
+  log.fill(res, robot_);
+  return res;
+}
+
+}  // namespace voxplore::navigation

@@ -1,0 +1,478 @@
+// Navigation: the holonomic command model, the [navigation] parameters, and
+// StopAndScanDriver (MRPT's reactive navigator) driving an ideal robot and
+// the simulated omniRob / compact robot through dlr_test_room.world.
+#include <gtest/gtest.h>
+#include <mrpt/config/CConfigFileMemory.h>
+#include <mrpt/math/wrap2pi.h>
+#include <mrpt/system/CTicTac.h>
+#include <voxplore/apps/SimRobot.h>
+#include <voxplore/common/config.h>
+#include <voxplore/navigation/StopAndScanDriver.h>
+#include <voxplore/navigation/holo_ramp.h>
+#include <voxplore/sim/SimConfig.h>
+#include <voxplore/sim/world_loading.h>
+
+#include <cmath>
+#include <iostream>
+#include <memory>
+#include <vector>
+
+#include "test_worlds.h"
+
+using namespace voxplore;
+using Eigen::Vector2d;
+using navigation::DriveOutcome;
+using navigation::DriverParams;
+using navigation::StopAndScanDriver;
+
+namespace
+{
+// ---------------------------------------------------------------------------
+// An ideal omnidirectional robot in free space with its own simulated clock.
+class IdealRobot : public navigation::RobotInterface
+{
+ public:
+  explicit IdealRobot(double t0_s = 1.0e9) : t_s_(t0_s), previous_(mrpt::Clock::getActiveClock())
+  {
+    mrpt::Clock::setSimulatedTime(now());
+    mrpt::Clock::setActiveClock(mrpt::Clock::Simulated);
+  }
+  ~IdealRobot() override { mrpt::Clock::setActiveClock(previous_); }
+  void setVelocity(double vx, double vy, double w) override { v_ = {vx, vy, w}; }
+  void stop() override { v_ = {0, 0, 0}; }
+  mrpt::poses::CPose2D pose() const override { return pose_; }
+  mrpt::poses::CPose2D odometry() const override { return pose_; }
+  mrpt::math::TTwist2D velocity() const override { return v_; }
+  bool obstacles(mrpt::maps::CSimplePointsMap& out) override
+  {
+    out.clear();
+    return sensors_ok;
+  }
+  mrpt::Clock::time_point now() const override { return mrpt::Clock::fromDouble(t_s_); }
+  void step(double dt) override
+  {
+    const double mid = pose_.phi() + 0.5 * v_.omega * dt;
+    const mrpt::poses::CPose2D next(
+        pose_.x() + (std::cos(mid) * v_.vx - std::sin(mid) * v_.vy) * dt,
+        pose_.y() + (std::sin(mid) * v_.vx + std::cos(mid) * v_.vy) * dt,
+        mrpt::math::wrapToPi(pose_.phi() + v_.omega * dt));
+    if (next.x() > invisible_wall_x)
+      bumps_++;  // refused, like sim::OmniRobot
+    else
+      pose_ = next;
+    t_s_ += dt;
+    if (advance_mrpt_clock) mrpt::Clock::setSimulatedTime(now());
+  }
+  std::optional<std::size_t> collisionCount() const override { return bumps_; }
+
+  bool sensors_ok = true;
+  bool advance_mrpt_clock = true;
+  double invisible_wall_x = 1e9;  ///< an obstacle the sensors miss: only the bumper finds it
+
+ private:
+  double t_s_;
+  mrpt::Clock::Source previous_;
+  mrpt::poses::CPose2D pose_{0, 0, 0};
+  mrpt::math::TTwist2D v_{0, 0, 0};
+  std::size_t bumps_ = 0;
+};
+
+// ---------------------------------------------------------------------------
+// dlr_test_room with the simulated robot behind RobotInterface.
+std::string testRoom()
+{
+  return test::sourceDir() + "/simulated_worlds/dlr_test_room.world";
+}
+
+struct SimRig
+{
+  sim::SimConfig cfg;
+  std::unique_ptr<sim::Simulator> sim;
+  std::unique_ptr<apps::SimRobot> robot;
+  std::unique_ptr<StopAndScanDriver> driver;
+
+  explicit SimRig(const std::string& profile)
+  {
+    cfg = sim::SimConfig::defaults(profile);
+    sim = std::make_unique<sim::Simulator>(sim::loadWorld(testRoom()), cfg.robot, cfg.cameras,
+                                           cfg.sim);
+    robot = std::make_unique<apps::SimRobot>(*sim);
+    auto p = DriverParams::forFootprint(cfg.robot.length_m, cfg.robot.width_m);
+    p.max_v_mps = cfg.robot.max_v_mps;
+    p.max_w = cfg.robot.max_w;
+    driver = std::make_unique<StopAndScanDriver>(*robot, p);
+  }
+  std::size_t collisions() const { return sim->robot().collisions(); }
+};
+
+// A lap round the meeting table (group x 3.8..6.2, y 2.875..5.125) from the
+// start (2, 4): down the west side, east along y = 1.45, up between the two
+// furniture groups at x = 7.2, west along y = 6.55, back to the start.
+// Every waypoint keeps >= 0.95 m from all obstacles, segments <= 1 m.
+std::vector<Vector2d> lapRoundMeetingTable()
+{
+  std::vector<Vector2d> wps = {{2.0, 3.0}, {2.0, 2.0}, {2.7, 1.45}};
+  for (double x = 3.7; x <= 6.75; x += 1.0) wps.emplace_back(x, 1.45);
+  for (double y = 2.4; y <= 6.45; y += 1.0) wps.emplace_back(7.2, y);
+  wps.emplace_back(7.2, 6.55);
+  for (double x = 6.2; x >= 2.15; x -= 1.0) wps.emplace_back(x, 6.55);
+  wps.emplace_back(2.0, 5.7);
+  wps.emplace_back(2.0, 4.8);
+  wps.emplace_back(2.0, 4.0);
+  return wps;
+}
+
+struct LapStats
+{
+  std::size_t reached = 0;
+  double worst_error_m = 0, mean_error_m = 0, distance_m = 0, sim_time_s = 0, wall_time_s = 0;
+  mrpt::poses::CPose2D final_pose;
+};
+
+LapStats driveLap(SimRig& rig, const std::vector<Vector2d>& wps)
+{
+  LapStats s;
+  mrpt::system::CTicTac wall;
+  for (const auto& wp : wps)
+  {
+    const auto r = rig.driver->driveTo(wp, std::nullopt);
+    EXPECT_EQ(r.outcome, DriveOutcome::Reached)
+        << "waypoint (" << wp.transpose() << "): " << r.message << " at " << r.final_pose;
+    s.reached += r.reached();
+    s.worst_error_m = std::max(s.worst_error_m, r.goal_distance_m);
+    s.mean_error_m += r.goal_distance_m / static_cast<double>(wps.size());
+    s.distance_m += r.distance_m;
+    s.sim_time_s += r.sim_time_s;
+  }
+  s.wall_time_s = wall.Tac();
+  s.final_pose = rig.sim->robot().groundTruth();
+  return s;
+}
+
+void expectStandsStill(SimRig& rig)
+{
+  const auto before = rig.sim->robot().groundTruth();
+  const auto v = rig.robot->velocity();
+  EXPECT_EQ(v.vx, 0.0);
+  EXPECT_EQ(v.vy, 0.0);
+  EXPECT_EQ(v.omega, 0.0);
+  for (int i = 0; i < 10; i++) rig.robot->step(0.1);
+  const auto after = rig.sim->robot().groundTruth();
+  EXPECT_EQ(before.x(), after.x());
+  EXPECT_EQ(before.y(), after.y());
+  EXPECT_EQ(before.phi(), after.phi());
+}
+}  // namespace
+
+// ---------------------------------------------------------------------------
+TEST(HoloRamp, BlendsMapFrameVelocityAndTurnsTowardsTheTravelDirection)
+{
+  // From standstill at yaw 0: 0.5 m/s towards +Y (dir_local = 90 deg), 1 s ramp.
+  const mrpt::kinematics::CVehicleVelCmd_Holo cmd(0.5, M_PI / 2, 1.0, mrpt::DEG2RAD(40.0));
+  const auto ramp = navigation::startHoloRamp(cmd, 10.0, 0.0, {0, 0, 0});
+  EXPECT_NEAR(ramp.dir_rad, M_PI / 2, 1e-12);
+  // Middle of [10.4, 10.6]: half the target velocity, still facing +X.
+  const auto a = navigation::holoTwistAt(ramp, 10.4, 0.2, 0.0);
+  EXPECT_NEAR(std::hypot(a.vx, a.vy), 0.25, 1e-9);
+  EXPECT_GT(a.omega, 0.0);  // turning left towards +Y
+  // After the ramp, facing +Y: all the velocity is "forward" in the robot frame.
+  const auto b = navigation::holoTwistAt(ramp, 20.0, 0.1, M_PI / 2);
+  EXPECT_NEAR(b.vx, 0.5, 1e-9);
+  EXPECT_NEAR(b.vy, 0.0, 1e-9);
+  EXPECT_EQ(b.omega, 0.0);  // aligned: no turn
+  // 5 deg short of the direction with a 0.5 s step: the turn rate is cut to
+  // reach it, never overshoot it.
+  const auto c = navigation::holoTwistAt(ramp, 20.0, 0.5, M_PI / 2 - mrpt::DEG2RAD(5.0));
+  EXPECT_NEAR(c.omega * 0.5, mrpt::DEG2RAD(5.0), 1e-9);
+  // The stop ramp stands still.
+  const auto d = navigation::holoTwistAt(navigation::stoppedHoloRamp(0.0), 1.0, 0.1, 0.3);
+  EXPECT_EQ(d.vx, 0.0);
+  EXPECT_EQ(d.vy, 0.0);
+  EXPECT_EQ(d.omega, 0.0);
+}
+
+TEST(DriverParams, SaveLoadRoundTripAndBadValuesNameTheKey)
+{
+  DriverParams p = DriverParams::forFootprint(0.5, 0.36);
+  p.max_v_mps = 0.3;
+  p.max_w = mrpt::DEG2RAD(30.0);
+  p.holonomic_method = "CHolonomicFullEval";
+  mrpt::config::CConfigFileMemory m;
+  p.saveToConfigFile(m, "navigation");
+  DriverParams back;
+  common::loadChecked(back, m, "navigation");
+  mrpt::config::CConfigFileMemory m2;
+  back.saveToConfigFile(m2, "navigation");
+  EXPECT_EQ(m.getContent(), m2.getContent());
+  EXPECT_NEAR(back.max_w, mrpt::DEG2RAD(30.0), 1e-12);
+
+  auto errorOf = [](const std::string& text)
+  {
+    mrpt::config::CConfigFileMemory c(text);
+    DriverParams q;
+    try
+    {
+      common::loadChecked(q, c, "navigation");
+    }
+    catch (const std::exception& e)
+    {
+      return std::string(e.what());
+    }
+    return std::string();
+  };
+  EXPECT_NE(errorOf("[navigation]\nmax_v_mpss = 1\n").find("max_v_mpss"), std::string::npos);
+  EXPECT_NE(errorOf("[navigation]\nholonomic_method = CHolonomicVFF\n").find("holonomic_method"),
+            std::string::npos);
+  EXPECT_NE(errorOf("[navigation]\nref_distance_m = 0.5\n").find("ref_distance_m"),
+            std::string::npos);
+  EXPECT_EQ(errorOf("[navigation]\nmax_v_mps = 0.8\n"), "");
+}
+
+TEST(DriverParams, MrptConfigHasEveryKeyMrptThrowsOn)
+{
+  mrpt::config::CConfigFileMemory c;
+  DriverParams().writeMrptConfig(c);
+  const std::vector<std::pair<std::string, std::string>> required = {
+      {"CAbstractPTGBasedReactive", "holonomic_method"},
+      {"CAbstractPTGBasedReactive", "motion_decider_method"},
+      {"CAbstractPTGBasedReactive", "ref_distance"},
+      {"CAbstractPTGBasedReactive", "robotMax_V_mps"},
+      {"CAbstractPTGBasedReactive", "robotMax_W_degps"},
+      {"CHolonomicND", "factorWeights"},
+      {"CMultiObjMotionOpt_Scalarization", "scalar_score_formula"},
+      {"CReactiveNavigationSystem", "min_obstacles_height"},
+      {"CReactiveNavigationSystem", "max_obstacles_height"},
+      {"CReactiveNavigationSystem", "PTG_COUNT"},
+      {"CReactiveNavigationSystem", "PTG0_Type"},
+      {"CReactiveNavigationSystem", "PTG0_num_paths"},
+      {"CReactiveNavigationSystem", "PTG0_refDistance"},
+      {"CReactiveNavigationSystem", "PTG0_T_ramp_max"},
+      {"CReactiveNavigationSystem", "PTG0_v_max_mps"},
+      {"CReactiveNavigationSystem", "PTG0_w_max_dps"},
+      {"CReactiveNavigationSystem", "RobotModel_circular_shape_radius"}};
+  for (const auto& [sec, key] : required) EXPECT_TRUE(c.keyExists(sec, key)) << sec << " " << key;
+  EXPECT_NEAR(c.read_double("CReactiveNavigationSystem", "RobotModel_circular_shape_radius", 0),
+              std::hypot(0.6, 0.356) + 0.05, 1e-6);
+}
+
+TEST(DriverParams, NavigationIniHoldsTheDefaults)
+{
+  const auto cfg = common::openIniFile(test::sourceDir() + "/config/navigation.ini");
+  EXPECT_NO_THROW(common::assertKnownSections(*cfg, {"navigation"}));
+  DriverParams loaded;
+  common::loadChecked(loaded, *cfg, "navigation");
+  mrpt::config::CConfigFileMemory a, b;
+  loaded.saveToConfigFile(a, "navigation");
+  DriverParams().saveToConfigFile(b, "navigation");
+  EXPECT_EQ(a.getContent(), b.getContent());
+}
+
+// ---------------------------------------------------------------------------
+TEST(StopAndScanDriver, IdealRobotReachesPointsInFreeSpaceAndTurnsToTheYaw)
+{
+  IdealRobot robot;
+  DriverParams p;
+  StopAndScanDriver driver(robot, p);
+  const std::vector<std::pair<Vector2d, double>> goals = {
+      {{1.0, 0.0}, 0.0}, {{1.0, 1.0}, M_PI / 2}, {{0.3, 1.7}, -2.5}, {{0.0, 0.0}, 0.0}};
+  for (const auto& [g, yaw] : goals)
+  {
+    const auto r = driver.driveTo(g, yaw);
+    ASSERT_EQ(r.outcome, DriveOutcome::Reached) << r.message;
+    EXPECT_LE(r.goal_distance_m, p.goal_tolerance_m);
+    EXPECT_LE(std::abs(mrpt::math::wrapToPi(r.final_pose.phi() - yaw)), p.yaw_tolerance);
+    EXPECT_GT(r.distance_m, 0.5);
+    EXPECT_GT(r.sim_time_s, 0.0);
+  }
+}
+
+TEST(StopAndScanDriver, SensorFailureIsAnErrorAndStops)
+{
+  IdealRobot robot;
+  StopAndScanDriver driver(robot, DriverParams());
+  robot.sensors_ok = false;
+  const auto r = driver.driveTo({2.0, 0.0}, std::nullopt);
+  EXPECT_EQ(r.outcome, DriveOutcome::Error) << r.message;
+  EXPECT_EQ(robot.velocity().vx, 0.0);
+  EXPECT_EQ(robot.velocity().vy, 0.0);
+}
+
+TEST(StopAndScanDriver, BumperCollisionIsAnErrorAndStops)
+{
+  IdealRobot robot;
+  robot.invisible_wall_x = 0.6;
+  StopAndScanDriver driver(robot, DriverParams());
+  const auto r = driver.driveTo({1.5, 0.0}, 0.5);
+  EXPECT_EQ(r.outcome, DriveOutcome::Error) << r.message;
+  EXPECT_NE(r.message.find("collision"), std::string::npos) << r.message;
+  EXPECT_EQ(r.collisions, 1u);
+  EXPECT_LE(r.final_pose.x(), 0.6);
+  EXPECT_EQ(robot.velocity().vx, 0.0);
+  EXPECT_EQ(robot.velocity().omega, 0.0);
+}
+
+TEST(StopAndScanDriver, ThrowsWhenTheRobotClockIsNotMrptsClock)
+{
+  IdealRobot robot;
+  StopAndScanDriver driver(robot, DriverParams());
+  robot.advance_mrpt_clock = false;
+  for (int i = 0; i < 30; i++) robot.step(0.1);
+  EXPECT_THROW(driver.driveTo({1.0, 0.0}, std::nullopt), std::runtime_error);
+}
+
+TEST(StopAndScanDriver, HardStepLimitEndsTheDrive)
+{
+  IdealRobot robot;
+  DriverParams p;
+  p.max_steps = 40;
+  StopAndScanDriver driver(robot, p);
+  const auto r = driver.driveTo({30.0, 0.0}, M_PI);
+  EXPECT_EQ(r.outcome, DriveOutcome::Timeout) << r.message;
+  EXPECT_EQ(r.steps, 40u);  // no rotation after a failed drive
+  EXPECT_EQ(robot.velocity().vx, 0.0);
+}
+
+// ---------------------------------------------------------------------------
+TEST(SimRobot, FanSeesTheWallsOwnsTheClockAndTakesAPoseSource)
+{
+  // 6 x 4 x 2.5 m box room, robot in the middle turned by 30 deg.
+  const mrpt::poses::CPose2D start(3.0, 2.0, mrpt::DEG2RAD(30.0));
+  const auto cfg = sim::SimConfig::defaults("omnirob");
+  sim::Simulator sim(test::boxRoom(6, 4, 2.5, start), cfg.robot, cfg.cameras, cfg.sim);
+  apps::SimObstacleSensor sensor;
+  sensor.heights_m = {0.2, 0.4};
+  sensor.rays_per_layer = 360;
+  apps::SimRobot robot(sim, sensor);
+  EXPECT_EQ(mrpt::Clock::getActiveClock(), mrpt::Clock::Simulated);
+  EXPECT_EQ(mrpt::Clock::now(), sim.now());
+
+  mrpt::maps::CSimplePointsMap pts;
+  ASSERT_TRUE(robot.obstacles(pts));
+  ASSERT_EQ(pts.size(), 720u);  // every ray hits a wall
+  std::size_t off_layer = 0;
+  double worst_m = 0;
+  for (std::size_t i = 0; i < pts.size(); i++)
+  {
+    mrpt::math::TPoint3D p_robot;
+    pts.getPoint(i, p_robot);
+    off_layer += std::abs(p_robot.z - 0.2) > 1e-6 && std::abs(p_robot.z - 0.4) > 1e-6;
+    double wx, wy;
+    start.composePoint(p_robot.x, p_robot.y, wx, wy);  // robot frame -> world
+    worst_m = std::max(worst_m, test::distanceToBoxRoom({wx, wy, p_robot.z}, 6, 4, 2.5));
+  }
+  EXPECT_EQ(off_layer, 0u);
+  EXPECT_LT(worst_m, 1e-3);  // every point on a wall
+
+  // step(): integrates the command, advances MRPT's clock; rejects odd dt.
+  robot.setVelocity(0.2, 0.0, 0.0);
+  robot.step(0.5);
+  EXPECT_NEAR(sim.simTime(), 0.5, 1e-9);
+  EXPECT_EQ(mrpt::Clock::now(), sim.now());
+  EXPECT_GT(robot.odometry().x(), 0.05);
+  EXPECT_THROW(robot.step(0.07), std::invalid_argument);
+
+  // The pose source: ground truth by default, replaceable.
+  EXPECT_EQ(robot.pose().x(), sim.robot().groundTruth().x());
+  robot.setPoseSource([] { return mrpt::poses::CPose2D(1, 2, 3); });
+  EXPECT_EQ(robot.pose().y(), 2.0);
+  robot.setPoseSource({});
+  EXPECT_EQ(robot.pose().y(), sim.robot().groundTruth().y());
+}
+
+TEST(StopAndScanDriver, OmnirobDrivesALapRoundTheMeetingTableWithoutCollision)
+{
+  SimRig rig("omnirob");
+  const auto wps = lapRoundMeetingTable();
+  const LapStats s = driveLap(rig, wps);
+  EXPECT_EQ(s.reached, wps.size());
+  EXPECT_LE(s.worst_error_m, rig.driver->params().goal_tolerance_m);
+  EXPECT_EQ(rig.collisions(), 0u);
+  EXPECT_GT(s.distance_m, 15.0);
+  std::cout << "[ omnirob lap ] " << wps.size() << " waypoints, " << s.distance_m << " m in "
+            << s.sim_time_s << " s simulated, " << s.wall_time_s << " s real ("
+            << 1e3 * s.wall_time_s / s.distance_m << " ms real per simulated metre), reach error "
+            << "mean " << s.mean_error_m << " m, worst " << s.worst_error_m << " m" << std::endl;
+}
+
+TEST(StopAndScanDriver, SameRunTwiceGivesTheSamePoses)
+{
+  const std::vector<Vector2d> wps = {{2.0, 3.0}, {2.0, 2.0}, {2.7, 1.45}, {3.7, 1.45}};
+  std::vector<mrpt::poses::CPose2D> finals;
+  for (int run = 0; run < 2; run++)
+  {
+    SimRig rig("omnirob");
+    finals.push_back(driveLap(rig, wps).final_pose);
+  }
+  EXPECT_EQ(finals[0].x(), finals[1].x());
+  EXPECT_EQ(finals[0].y(), finals[1].y());
+  EXPECT_EQ(finals[0].phi(), finals[1].phi());
+}
+
+TEST(StopAndScanDriver, FinalYawInTheRoom)
+{
+  SimRig rig("omnirob");
+  const auto r = rig.driver->driveTo({2.0, 3.0}, -M_PI / 2);
+  ASSERT_EQ(r.outcome, DriveOutcome::Reached) << r.message;
+  EXPECT_LE(std::abs(mrpt::math::wrapToPi(rig.sim->robot().groundTruth().phi() + M_PI / 2)),
+            rig.driver->params().yaw_tolerance);
+  EXPECT_EQ(rig.collisions(), 0u);
+}
+
+TEST(StopAndScanDriver, UnreachableWaypointsEndBlockedWithoutCollision)
+{
+  // Inside the cabinet against the south wall, and behind the south wall.
+  for (const Vector2d& wp : {Vector2d(5.0, 0.25), Vector2d(2.0, -1.0)})
+  {
+    SCOPED_TRACE(wp.transpose());
+    SimRig rig("omnirob");
+    rig.driver->driveTo({2.0, 2.0}, std::nullopt);
+    const auto r = rig.driver->driveTo(wp, std::nullopt);
+    std::cout << "[ unreachable ] (" << wp.transpose() << "): " << toString(r.outcome) << " after "
+              << r.sim_time_s << " s, " << r.goal_distance_m << " m short: " << r.message
+              << std::endl;
+    EXPECT_NE(r.outcome, DriveOutcome::Reached);
+    EXPECT_LE(r.sim_time_s, rig.driver->params().timeout_s + 1.0);
+    EXPECT_EQ(rig.collisions(), 0u);
+    expectStandsStill(rig);
+  }
+}
+
+TEST(StopAndScanDriver, CompactRobotDrivesTheLapAndCloseToTheWall)
+{
+  SimRig rig("compact");
+  auto wps = lapRoundMeetingTable();
+  // 0.5 m from the east wall: out of reach for the omniRob's 0.75 m circle.
+  // Detour along the north passage past the desks, after (7.2, 6.55).
+  wps.insert(wps.begin() + 13, {{7.9, 6.2},
+                                {8.9, 6.3},
+                                {9.9, 6.3},
+                                {10.8, 6.0},
+                                {11.5, 5.5},
+                                {10.8, 6.0},
+                                {9.9, 6.3},
+                                {8.9, 6.3},
+                                {7.9, 6.3},
+                                {7.2, 6.55}});
+  const LapStats s = driveLap(rig, wps);
+  EXPECT_EQ(s.reached, wps.size());
+  EXPECT_LE(s.worst_error_m, rig.driver->params().goal_tolerance_m);
+  EXPECT_EQ(rig.collisions(), 0u);
+  std::cout << "[ compact lap ] " << wps.size() << " waypoints, " << s.distance_m << " m in "
+            << s.sim_time_s << " s simulated, " << s.wall_time_s << " s real ("
+            << 1e3 * s.wall_time_s / s.distance_m << " ms real per simulated metre), reach error "
+            << "mean " << s.mean_error_m << " m, worst " << s.worst_error_m << " m" << std::endl;
+}
+
+TEST(StopAndScanDriver, OmnirobReachesWaypointsAtThePlannersClearance)
+{
+  // The planner keeps r_coll + sqrt(2) l_res = 0.698 + 0.071 = 0.77 m from
+  // obstacles; these waypoints are 0.77 m from the cabinet, the west wall and
+  // the shelf (the navigator's circle: 0.748 m, stop gap 0.06 m, tolerance 0.05 m).
+  SimRig rig("omnirob");
+  const std::vector<Vector2d> wps = {{2.0, 3.0},  {2.5, 2.0}, {3.5, 1.27}, {4.5, 1.27}, {5.5, 1.27},
+                                     {5.6, 2.0},  {4.6, 1.6}, {3.2, 2.3},  {2.2, 3.0},  {0.77, 3.0},
+                                     {0.77, 5.0}, {1.5, 5.9}, {1.8, 6.73}};
+  const LapStats s = driveLap(rig, wps);
+  EXPECT_EQ(s.reached, wps.size());
+  EXPECT_EQ(rig.collisions(), 0u);
+}

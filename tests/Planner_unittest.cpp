@@ -1,0 +1,171 @@
+// The exploration planner end to end on synthetic maps: a plan through a
+// doorway, "done" on a closed known room, determinism, the nearest-frontier
+// baseline, blacklisting, parameters and the PNG.
+#include <gtest/gtest.h>
+#include <mrpt/config/CConfigFileMemory.h>
+#include <mrpt/math/wrap2pi.h>
+#include <voxplore/exploration/Planner.h>
+
+#include <filesystem>
+#include <fstream>
+
+#include "exploration_test_maps.h"
+#include "test_worlds.h"
+
+using namespace voxplore;
+using namespace voxplore::exploration;
+using mrpt::poses::CPose2D;
+
+namespace
+{
+// 6 x 4 m room around the origin with a 1.8 m doorway in the east wall
+// (x = 3); unknown beyond.
+octomap::OcTree room(double door_half_width_m)
+{
+  octomap::OcTree t(0.05);
+  test::addRoom(t, -3.0, 3.0, -2.0, 2.0);
+  if (door_half_width_m > 0)  // open the east wall (one voxel thick at x = 3)
+    test::setColumns(t, 3.0, 3.05, -door_half_width_m, door_half_width_m, false);
+  t.updateInnerOccupancy();
+  return t;
+}
+
+octomap::OcTree doorRoom() { return room(0.9); }
+
+PlannerParams params()
+{
+  PlannerParams p;
+  p.collision.r_coll_m = 0.4;  // a compact robot, so the doorway is passable
+  return p;
+}
+}  // namespace
+
+TEST(Planner, PlansThroughTheDoorway)
+{
+  const auto V = doorRoom();
+  const CPose2D robot(-1.5, 0.0, 0.0);
+  const auto r = plan(V, robot, params());
+  ASSERT_TRUE(r.ok()) << r.message;
+  ASSERT_TRUE(r.frontier);
+  EXPECT_EQ(r.frontiers->frontiers.size(), 1u);
+  EXPECT_NEAR(r.frontier->center.x(), 3.0, 0.3);  // at the doorway
+  EXPECT_NEAR(r.frontier->center.y(), 0.0, 0.3);
+  ASSERT_FALSE(r.samples.empty());
+  EXPECT_LE(r.samples.size(), 15u);
+  EXPECT_EQ(r.ratings.size(), r.samples.size());
+  ASSERT_FALSE(r.waypoints.empty());
+  EXPECT_NEAR(r.waypoints.back().x(), r.target.x(), 1e-9);
+  // Every waypoint is in Free space, and the target faces the frontier.
+  for (const auto& w : r.waypoints)
+  {
+    Cell c;
+    ASSERT_TRUE(cellOf(r.space->state, w, c));
+    EXPECT_EQ(*r.space->state.cellByIndex(c.cx, c.cy), SpaceState::Free) << w.transpose();
+  }
+  const double yaw_to_frontier =
+      std::atan2(r.frontier->center.y() - r.target.y(), r.frontier->center.x() - r.target.x());
+  EXPECT_NEAR(mrpt::math::wrapToPi(r.target.phi() - yaw_to_frontier), 0.0, 1e-6);
+  // In the open room every sample has a path: the target is the best-rated one.
+  const auto best = bestRated(r.ratings);
+  ASSERT_TRUE(best);
+  EXPECT_EQ(r.target, r.samples[*best]);
+  EXPECT_GE(r.ms.total, r.ms.rating);
+}
+
+TEST(Planner, FullyKnownClosedRoomIsDone)
+{
+  const auto V = room(0.0);
+  const auto r = plan(V, CPose2D(0, 0, 0), params());
+  EXPECT_FALSE(r.ok());
+  EXPECT_EQ(r.done, DoneReason::NoFrontier) << r.message;
+  EXPECT_TRUE(r.waypoints.empty());
+}
+
+TEST(Planner, SameMapSameSeedSamePlan)
+{
+  const auto V = doorRoom();
+  const auto a = plan(V, CPose2D(-1.5, 0.3, 0.2), params(), {}, 7);
+  const auto b = plan(V, CPose2D(-1.5, 0.3, 0.2), params(), {}, 7);
+  ASSERT_TRUE(a.ok() && b.ok());
+  ASSERT_EQ(a.samples.size(), b.samples.size());
+  for (std::size_t i = 0; i < a.samples.size(); i++)
+  {
+    EXPECT_EQ(a.samples[i], b.samples[i]);
+    EXPECT_EQ(a.ratings[i].gain, b.ratings[i].gain);
+  }
+  ASSERT_EQ(a.waypoints.size(), b.waypoints.size());
+  for (std::size_t i = 0; i < a.waypoints.size(); i++) EXPECT_EQ(a.waypoints[i], b.waypoints[i]);
+  auto p = params();
+  p.seed = 2;
+  const auto c = plan(V, CPose2D(-1.5, 0.3, 0.2), p, {}, 7);
+  ASSERT_TRUE(c.ok());
+  bool differs = c.samples.size() != a.samples.size();
+  for (std::size_t i = 0; !differs && i < a.samples.size(); i++) differs = c.samples[i] != a.samples[i];
+  EXPECT_TRUE(differs) << "another seed draws other samples";
+}
+
+TEST(Planner, NearestFrontierBaselineDrivesTowardsTheFrontier)
+{
+  const auto V = doorRoom();
+  auto p = params();
+  p.strategy = Strategy::NearestFrontier;
+  const auto r = plan(V, CPose2D(-1.5, 0.0, 0.0), p);
+  ASSERT_TRUE(r.ok()) << r.message;
+  EXPECT_TRUE(r.samples.empty());
+  EXPECT_TRUE(r.ratings.empty());
+  EXPECT_LT((Eigen::Vector2d(r.target.x(), r.target.y()) - r.frontier->centroid).norm(), 1.0);
+}
+
+TEST(Planner, BlacklistedFrontierIsSkipped)
+{
+  const auto V = doorRoom();
+  const auto first = plan(V, CPose2D(-1.5, 0.0, 0.0), params());
+  ASSERT_TRUE(first.ok());
+  const auto r = plan(V, CPose2D(-1.5, 0.0, 0.0), params(), {first.frontier->center});
+  EXPECT_FALSE(r.ok());
+  EXPECT_EQ(r.done, DoneReason::NoReachableFrontier) << r.message;
+}
+
+TEST(Planner, FrontierBehindTooNarrowGapIsNotPlanned)
+{
+  // The omniRob's collision radius (0.77 m with discretisation) does not fit
+  // a 1.2 m doorway: the frontier beyond is unreachable, planning is done.
+  const auto V = room(0.6);
+  PlannerParams p;  // omniRob r_coll 0.698
+  const auto r = plan(V, CPose2D(-1.5, 0.0, 0.0), p);
+  EXPECT_FALSE(r.ok()) << r.message;
+}
+
+TEST(Planner, ParamsRoundTripAndErrors)
+{
+  PlannerParams p;
+  p.strategy = Strategy::NearestFrontier;
+  p.seed = 11;
+  p.sampling.max_samples = 9;
+  p.path.max_segment_m = 0.8;
+  mrpt::config::CConfigFileMemory m1, m2;
+  p.save(m1);
+  PlannerParams q;
+  q.load(m1);
+  q.save(m2);
+  EXPECT_EQ(m1.getContent(), m2.getContent());
+  EXPECT_EQ(q.strategy, Strategy::NearestFrontier);
+  mrpt::config::CConfigFileMemory bad;
+  bad.write("planner", "strategy", "random");
+  EXPECT_THROW(q.load(bad), std::exception);
+  mrpt::config::CConfigFileMemory typo;
+  typo.write("sampling", "max_sampels", 3);
+  EXPECT_THROW(q.load(typo), std::exception);
+}
+
+TEST(Planner, RendersThePlan)
+{
+  const auto V = doorRoom();
+  const CPose2D robot(-1.5, 0.0, 0.0);
+  const auto r = plan(V, robot, params());
+  const auto png = test::tempPath("plan.png");
+  renderPlan(r, robot, png, {CPose2D(-2, 0, 0), robot}, 3);
+  ASSERT_TRUE(std::filesystem::exists(png));
+  EXPECT_GT(std::filesystem::file_size(png), 1000u);
+  EXPECT_THROW(renderPlan(r, robot, "/nonexistent_dir/plan.png"), std::runtime_error);
+}
