@@ -96,8 +96,14 @@ void runRating(benchmark::State& state, Rate rate)
   state.SetItemsProcessed(state.iterations() * static_cast<int64_t>(r.beams));
 }
 
-void BM_RateScan(benchmark::State& state) { runRating(state, exploration::rateScan); }
-void BM_RateScanNaive(benchmark::State& state) { runRating(state, exploration::rateScanNaive); }
+void BM_RateScan(benchmark::State& state)
+{
+  runRating(state, exploration::rateScan);
+}
+void BM_RateScanNaive(benchmark::State& state)
+{
+  runRating(state, exploration::rateScanNaive);
+}
 
 void BM_CastRayStock(benchmark::State& state)
 {
@@ -148,8 +154,8 @@ bool checkAgreement()
       if (a.voxels != b.voxels || a.unknown_voxels != b.unknown_voxels ||
           std::abs(a.gain - b.gain) > 1e-9 * std::max(1.0, b.gain))
       {
-        std::cerr << "MISMATCH at " << pose.asString() << " r=" << r << ": ours " << a.voxels
-                  << "/" << a.unknown_voxels << "/" << a.gain << " naive " << b.voxels << "/"
+        std::cerr << "MISMATCH at " << pose.asString() << " r=" << r << ": ours " << a.voxels << "/"
+                  << a.unknown_voxels << "/" << a.gain << " naive " << b.voxels << "/"
                   << b.unknown_voxels << "/" << b.gain << "\n";
         ok = false;
       }
@@ -199,8 +205,10 @@ int main(int argc, char** argv)
               << " poses\n"
               << "thesis: 285 ms per sample (beam_reduction 3); target: < 5 ms at "
                  "beam_reduction 1\n";
-    if (!checkAgreement()) std::cerr << "*** ours and naive DISAGREE (see above)\n";
-    else std::cout << "ours == naive on every pose (voxels, unknown, gain)\n";
+    if (!checkAgreement())
+      std::cerr << "*** ours and naive DISAGREE (see above)\n";
+    else
+      std::cout << "ours == naive on every pose (voxels, unknown, gain)\n";
   }
   benchmark::RunSpecifiedBenchmarks();
   benchmark::Shutdown();

@@ -4,6 +4,7 @@
 #include <mrpt/config/CConfigFile.h>
 #include <mrpt/config/CConfigFileMemory.h>
 #include <voxplore/common/config.h>
+#include <voxplore/apps/ExploreApp.h>
 #include <voxplore/exploration/Planner.h>
 #include <voxplore/mapping/SlamIcp.h>
 #include <voxplore/navigation/DriverParams.h>
@@ -58,6 +59,7 @@ TEST(Config, EveryIniInConfigLoads)
     for (const auto& sec : mapping::SlamIcpParams::sections()) known.insert(sec);
     for (const auto& sec : exploration::PlannerParams::sections()) known.insert(sec);
     for (const auto& sec : navigation::DriverParams::sections()) known.insert(sec);
+    known.insert(apps::ExploreParams::section());
     EXPECT_NO_THROW(common::assertKnownSections(*cfg, known));
     EXPECT_NO_THROW(sim::SimConfig::load(*cfg));
     mapping::SlamIcpParams slam;

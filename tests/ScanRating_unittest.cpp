@@ -26,7 +26,10 @@ using octomap::point3d;
 
 namespace
 {
-double entropyOf(double p) { return -(p * std::log(p) + (1 - p) * std::log(1 - p)); }
+double entropyOf(double p)
+{
+  return -(p * std::log(p) + (1 - p) * std::log(1 - p));
+}
 
 /// Sets every voxel of the box [lo, hi) to log-odds l.
 void setBox(OcTree& t, const point3d& lo, const point3d& hi, float l)
@@ -35,6 +38,15 @@ void setBox(OcTree& t, const point3d& lo, const point3d& hi, float l)
   for (double x = lo.x() + r / 2; x < hi.x(); x += r)
     for (double y = lo.y() + r / 2; y < hi.y(); y += r)
       for (double z = lo.z() + r / 2; z < hi.z(); z += r) t.setNodeValue(x, y, z, l);
+}
+
+/// rateScan on the portable walker (what CPUs without AVX2 run).
+ScanRating rateScanPortable(const OcTree& t, const CPose2D& pose, const ScanRatingParams& p)
+{
+  setenv("VOXPLORE_SCAN_RATING_PORTABLE", "1", 1);
+  const auto r = rateScan(t, pose, p);
+  unsetenv("VOXPLORE_SCAN_RATING_PORTABLE");
+  return r;
 }
 
 void expectSameRating(const ScanRating& fast, const ScanRating& naive, const std::string& what)
@@ -65,7 +77,8 @@ struct Box
 
 /// Distance along unit `d` from `o` to the first furniture box, the floor or
 /// the room's walls and ceiling (o inside the room).
-double castInRoom(const point3d& o, const point3d& d, const Box& room, const std::vector<Box>& boxes)
+double castInRoom(const point3d& o, const point3d& d, const Box& room,
+                  const std::vector<Box>& boxes)
 {
   double best = 1e9;
   for (int i = 0; i < 3; i++)  // leaving the room box (walls, floor, ceiling)
@@ -279,6 +292,7 @@ TEST(ScanRating, FastEqualsNaiveOnARoomMap)
     const auto fast = rateScan(map, pose, p);
     const auto naive = rateScanNaive(map, pose, p);
     expectSameRating(fast, naive, "pose " + pose.asString());
+    expectSameRating(rateScanPortable(map, pose, p), naive, "portable, pose " + pose.asString());
     EXPECT_GT(fast.voxels, fast.unknown_voxels);  // a mix of known and unknown
     EXPECT_GT(fast.unknown_voxels, 0u);
   }
@@ -293,11 +307,16 @@ TEST(ScanRating, FastEqualsNaiveWithManyDistinctValues)
   std::uniform_real_distribution<float> l(-2.0f, 3.5f);
   for (double x = -1.5; x < 1.5; x += 0.05)
     for (double y = -1.5; y < 1.5; y += 0.05)
-      for (double z = 0.0; z < 1.1; z += 0.05) t.setNodeValue(x + 0.025, y + 0.025, z + 0.025, l(rng));
+      for (double z = 0.0; z < 1.1; z += 0.05)
+        t.setNodeValue(x + 0.025, y + 0.025, z + 0.025, l(rng));
   ScanRatingParams p;
   p.beam_reduction = 1;
   for (const CPose2D& pose : {CPose2D(0.1, 0.2, 0.3), CPose2D(-0.7, 0.4, 2.0)})
-    expectSameRating(rateScan(t, pose, p), rateScanNaive(t, pose, p), pose.asString());
+  {
+    const auto naive = rateScanNaive(t, pose, p);
+    expectSameRating(rateScan(t, pose, p), naive, pose.asString());
+    expectSameRating(rateScanPortable(t, pose, p), naive, "portable " + pose.asString());
+  }
 }
 
 // --------------------------------------------------------------------- bestRated

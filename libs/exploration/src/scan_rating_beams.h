@@ -28,12 +28,15 @@ void checkRatingParams(const ScanRatingParams& p);
 ///        (cleared first): camera by camera, then image row v, then column u,
 ///        every beam_reduction-th pixel from (0, 0); i.e. ceil(w / r) *
 ///        ceil(h / r) beams per camera.
-void virtualBeams(
-    const mrpt::poses::CPose2D& pose, const ScanRatingParams& p, std::vector<VirtualBeam>& out);
+void virtualBeams(const mrpt::poses::CPose2D& pose, const ScanRatingParams& p,
+                  std::vector<VirtualBeam>& out);
 
 /// @brief Log-odds above which a voxel stops a beam: p > th_occ / 255,
 ///        compared in OctoMap's float log-odds.
-inline float stopLogOdds(int th_occ) { return octomap::logodds(th_occ / 255.0); }
+inline float stopLogOdds(int th_occ)
+{
+  return octomap::logodds(th_occ / 255.0);
+}
 
 /// @brief thesis eq. 3.11: H = -(p ln p + (1-p) ln(1-p)) [nats] of a voxel
 ///        with log-odds l (p = OctoMap's probability(l)); 0 at p = 0 or 1.
@@ -47,6 +50,9 @@ inline double entropyOfLogOdds(float l)
 }
 
 /// @brief Entropy of a never observed voxel (p = 0.5): ln 2.
-inline double unknownEntropy() { return std::log(2.0); }
+inline double unknownEntropy()
+{
+  return std::log(2.0);
+}
 
 }  // namespace voxplore::exploration::detail

@@ -18,8 +18,8 @@ namespace voxplore::exploration
 //    different line than the beam's.
 // Hence one computeRayKeys per whole beam, one search() per key in order with
 // the stop rule checked on the node itself.
-ScanRating rateScanNaive(
-    const octomap::OcTree& V, const mrpt::poses::CPose2D& pose, const ScanRatingParams& p)
+ScanRating rateScanNaive(const octomap::OcTree& V, const mrpt::poses::CPose2D& pose,
+                         const ScanRatingParams& p)
 {
   detail::checkRatingParams(p);
   const float stop_log_odds = detail::stopLogOdds(p.th_occ);
@@ -34,7 +34,7 @@ ScanRating rateScanNaive(
   {
     octomap::OcTreeKey end_key;
     if (!V.computeRayKeys(beam.origin, beam.end, ray) || !V.coordToKeyChecked(beam.end, end_key))
-      continue;  // outside the tree's key range: nothing to rate
+      continue;           // outside the tree's key range: nothing to rate
     ray.addKey(end_key);  // computeRayKeys leaves the end voxel out
     for (const octomap::OcTreeKey& key : ray)
     {

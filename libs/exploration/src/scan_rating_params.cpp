@@ -40,12 +40,14 @@ std::vector<CPose3D> omniRobRing(double length_m, double width_m, double height_
   return out;
 }
 
-std::string camKey(int i) { return "cam" + std::to_string(i) + "_pose"; }
+std::string camKey(int i)
+{
+  return "cam" + std::to_string(i) + "_pose";
+}
 
 /// Replaces p.mounts by camN_pose (N < num_cameras) when any is given; all or none.
-void loadMounts(
-    ScanRatingParams& p, int num_cameras, const mrpt::config::CConfigFileBase& c,
-    const std::string& s)
+void loadMounts(ScanRatingParams& p, int num_cameras, const mrpt::config::CConfigFileBase& c,
+                const std::string& s)
 {
   using common::requireValid;
   int given = 0;
@@ -66,11 +68,11 @@ void loadMounts(
       throw std::runtime_error(common::configSourceName(c) + ": [" + s + "] " + key +
                                " missing: when any camN_pose is given, give all " +
                                std::to_string(num_cameras) + " (x y z yaw_deg pitch_deg roll_deg)");
-    const auto v = common::parseNumberList(
-        c.read_string(s, key, ""), common::configSourceName(c) + ": [" + s + "] " + key);
+    const auto v = common::parseNumberList(c.read_string(s, key, ""),
+                                           common::configSourceName(c) + ": [" + s + "] " + key);
     requireValid(v.size() == 6, c, s, key, "expected 'x y z yaw_deg pitch_deg roll_deg'");
-    mounts[i] = CPose3D(v[0], v[1], v[2], mrpt::DEG2RAD(v[3]), mrpt::DEG2RAD(v[4]),
-                        mrpt::DEG2RAD(v[5]));
+    mounts[i] =
+        CPose3D(v[0], v[1], v[2], mrpt::DEG2RAD(v[3]), mrpt::DEG2RAD(v[4]), mrpt::DEG2RAD(v[5]));
   }
   p.mounts = std::move(mounts);
 }
@@ -78,8 +80,8 @@ void loadMounts(
 
 ScanRatingParams::ScanRatingParams() : mounts(omniRobRing(1.2, 0.712, 0.60, vfov)) {}
 
-void ScanRatingParams::loadFromConfigFile(
-    const mrpt::config::CConfigFileBase& c, const std::string& s)
+void ScanRatingParams::loadFromConfigFile(const mrpt::config::CConfigFileBase& c,
+                                          const std::string& s)
 {
   int num_cameras = static_cast<int>(mounts.size());
   MRPT_LOAD_CONFIG_VAR(beam_reduction, int, c, s);
@@ -102,7 +104,8 @@ void ScanRatingParams::loadFromConfigFile(
   loadMounts(*this, num_cameras, c, s);
 }
 
-void ScanRatingParams::saveToConfigFile(mrpt::config::CConfigFileBase& c, const std::string& s) const
+void ScanRatingParams::saveToConfigFile(mrpt::config::CConfigFileBase& c,
+                                        const std::string& s) const
 {
   const int num_cameras = static_cast<int>(mounts.size());
   MRPT_SAVE_CONFIG_VAR(beam_reduction, c, s);
@@ -141,8 +144,8 @@ void checkRatingParams(const ScanRatingParams& p)
   require(p.th_occ >= 0 && p.th_occ <= 255, "th_occ must be in 0..255");
 }
 
-void virtualBeams(
-    const mrpt::poses::CPose2D& pose, const ScanRatingParams& p, std::vector<VirtualBeam>& out)
+void virtualBeams(const mrpt::poses::CPose2D& pose, const ScanRatingParams& p,
+                  std::vector<VirtualBeam>& out)
 {
   // MRPT depth-camera frame: +X forward, +Y left, +Z up; u grows to the right
   // (-Y), v grows down (-Z); same intrinsics as sim::CameraRigParams.
@@ -169,10 +172,11 @@ void virtualBeams(
         const double dy = (cx - u) / fx, dz = (cy - v) / fy;
         const double k = p.max_range_m / std::sqrt(1.0 + dy * dy + dz * dz);
         const double lx = k, ly = dy * k, lz = dz * k;
-        out.push_back({origin, octomap::point3d(
-                                   static_cast<float>(tx + R(0, 0) * lx + R(0, 1) * ly + R(0, 2) * lz),
-                                   static_cast<float>(ty + R(1, 0) * lx + R(1, 1) * ly + R(1, 2) * lz),
-                                   static_cast<float>(tz + R(2, 0) * lx + R(2, 1) * ly + R(2, 2) * lz))});
+        out.push_back(
+            {origin, octomap::point3d(
+                         static_cast<float>(tx + R(0, 0) * lx + R(0, 1) * ly + R(0, 2) * lz),
+                         static_cast<float>(ty + R(1, 0) * lx + R(1, 1) * ly + R(1, 2) * lz),
+                         static_cast<float>(tz + R(2, 0) * lx + R(2, 1) * ly + R(2, 2) * lz))});
       }
     }
   }

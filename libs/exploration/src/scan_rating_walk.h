@@ -32,18 +32,29 @@ struct RatedBeams
 };
 
 /// @brief Hands out the beams in order, each started: its first voxel
-///        visited and its DDA set up.
+///        visited and its DDA set up. The DDAs are set up in batches (the
+///        divisions of many beams overlap instead of queueing one beam's).
 class BeamFeed
 {
  public:
-  BeamFeed(const octomap::OcTree& V, const RatedBeams& beams) : V_(V), beams_(beams) {}
+  BeamFeed(const octomap::OcTree& V, const RatedBeams& beams, const VoxelWindow& w)
+      : V_(V), beams_(beams), w_(w)
+  {
+  }
   /// @return false when no beam with steps to take is left
   bool pop(VoxelWindow& w, Tally& tally, BeamDda& s);
 
  private:
+  static constexpr std::size_t kBatch = 64;
+  void setUpBatch();
+
   const octomap::OcTree& V_;
   const RatedBeams& beams_;
-  std::size_t next_ = 0;
+  const VoxelWindow& w_;
+  std::size_t next_ = 0;  ///< next entry of beams_.in_tree to set up
+  BeamDda batch_[kBatch];
+  bool one_voxel_[kBatch];  ///< origin and end in one voxel
+  std::size_t size_ = 0, taken_ = 0;
 };
 
 /// @brief Steps `s` on (computeRayKeys' loop) to the end of its beam.

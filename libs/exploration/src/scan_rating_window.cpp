@@ -74,15 +74,22 @@ void VoxelWindow::fillNode(const octomap::OcTreeNode* node, std::size_t corner, 
     return;
   }
   // A missing child of an inner node is unknown (search() returns null).
+  // The children are fetched first: leaf nodes lie scattered on the heap,
+  // and their loads then overlap instead of queueing behind each branch.
+  const octomap::OcTreeNode* child[8];
+  for (unsigned i = 0; i < 8; i++)
+  {
+    child[i] = V_.nodeChildExists(node, i) ? V_.getNodeChild(node, i) : nullptr;
+    if (child[i]) __builtin_prefetch(child[i]);
+  }
   const std::size_t h = size / 2;
   for (unsigned i = 0; i < 8; i++)
   {
     const std::size_t c = corner + (i & 1 ? h : 0) + (i & 2 ? h * nx_ : 0) + (i & 4 ? h * nxy_ : 0);
-    const bool exists = V_.nodeChildExists(node, i);
     if (h == 1)  // children are voxels: the common case near surfaces
-      cells_[c] = exists ? codeOf(V_.getNodeChild(node, i)) : unknown;
+      cells_[c] = child[i] ? codeOf(child[i]) : unknown;
     else
-      fillNode(exists ? V_.getNodeChild(node, i) : nullptr, c, h);
+      fillNode(child[i], c, h);
   }
 }
 

@@ -61,6 +61,8 @@ class VoxelWindow
   uint16_t* cells() const { return cells_; }
   /// Cells filled in this rating lie in [epochBase(), epochBase() + 1024).
   uint32_t epochBase() const { return epoch_ << kEpochShift; }
+  /// Classes interned so far (1..classCount() are valid).
+  uint32_t classCount() const { return classes_; }
   /// Entropy [nats] per class; [0] = unknown (ln 2).
   const double* entropy() const { return entropy_; }
 

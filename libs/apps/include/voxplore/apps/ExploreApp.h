@@ -1,0 +1,85 @@
+/* voxplore — voxplore-explore: the autonomous exploration mission (thesis fig. 4.4, 4.6). */
+#pragma once
+
+#include <mrpt/config/CLoadableOptions.h>
+
+#include <cstddef>
+#include <optional>
+#include <string>
+
+namespace voxplore::apps
+{
+/// @brief Settings of the exploration loop. ini section [explore].
+struct ExploreParams : public mrpt::config::CLoadableOptions
+{
+  int max_steps = 100;              ///< planning steps before giving up ("max_steps")
+  double max_sim_time_s = 3600.0;   ///< simulated seconds before giving up ("max_sim_time") [s]
+  int max_failures_per_target = 2;  ///< failed drives towards one frontier before it is blacklisted
+  bool write_step_images = true;    ///< steps/step_NNN.png (renderPlan) at every step
+  int step_image_scale = 4;         ///< pixels per grid cell of the step images
+  double gt_floor_res_m = 0.05;     ///< resolution of the ground-truth free floor (coverage_2d) [m]
+  double band_z_min_m = 0.10;       ///< coverage_3d: ground-truth surface voxels from this height [m]
+  double band_z_max_m = 0.60;       ///< ... up to this height (the cameras' band) [m]
+
+  /// @brief The section name this struct reads.
+  static const char* section() { return "explore"; }
+  void loadFromConfigFile(const mrpt::config::CConfigFileBase& c, const std::string& s) override;
+  void saveToConfigFile(mrpt::config::CConfigFileBase& c, const std::string& s) const override;
+};
+
+/// @brief Command-line options of voxplore-explore.
+struct ExploreOptions
+{
+  std::string config;                ///< ini file (empty: built-in defaults)
+  std::string world;                 ///< world file, mesh or floor plan
+  std::string out_dir = "out/explore";
+  std::optional<std::string> start;  ///< "x,y,yaw_deg" overrides the world's start
+  std::optional<std::string> robot;  ///< omnirob | compact
+  std::optional<int> seed;           ///< overrides [simulator] seed and [planner] seed
+  std::optional<std::string> strategy;  ///< nbv | nearest, overrides [planner] strategy
+  std::optional<int> max_steps;      ///< overrides [explore] max_steps
+  bool quiet = false;                ///< no per-step lines, no parameter dump
+};
+
+/// @brief What a run achieved (also summary.json).
+struct ExploreSummary
+{
+  std::string termination_reason;  ///< planner's done reason, "max_steps" or "max_sim_time"
+  std::size_t steps = 0;           ///< planning steps
+  std::size_t stops = 0;           ///< scan stops (SlamIcp calls)
+  std::size_t failed_drives = 0;   ///< waypoints not reached (Blocked / Timeout / Error)
+  std::size_t blacklisted = 0;     ///< targets given up
+  double path_length_m = 0;        ///< ground-truth distance travelled [m]
+  double coverage_2d = 0;          ///< share of the reachable GT free floor the map knows as free
+  double coverage_3d = 0;          ///< share of GT surface voxels in the band seen occupied
+  double map_precision = 0;        ///< share of occupied map voxels within one voxel of a surface
+  double map_precision_above_floor = 0;  ///< the same for voxels above the floor (z > l_res)
+  std::size_t collisions = 0;      ///< simulator steps refused because they would collide
+  double min_clearance_m = 0;      ///< footprint-to-world distance minimum along the true path [m]
+  double ate_rmse_m = 0;           ///< absolute trajectory error of the SLAM poses at stops [m]
+  double compute_s = 0;            ///< wall time of SLAM + planning [s]
+  double sim_time_s = 0;           ///< simulated time [s]
+};
+
+/// @brief voxplore-explore: scan, SlamIcp, plan, drive waypoint by waypoint
+///        with stop-and-scan, until the planner says done or a limit; writes
+///        map.bt, map.simplemap, metaview.ply, run.rawlog, trajectory_gt.tum,
+///        trajectory_est.tum, stops.csv, coverage.csv, steps/step_NNN.png,
+///        params.ini and summary.json into the output directory.
+class ExploreApp
+{
+ public:
+  /// @brief Parses the command line (TCLAP, --help) and runs. Never throws.
+  /// @return 0 on success, 1 on error (message on stderr)
+  int run(int argc, const char* const* argv);
+
+  /// @brief Runs with parsed options. On an exception mid-run the maps and
+  ///        logs so far are written before it propagates.
+  /// @throws std::runtime_error on bad input (naming the file or key).
+  ExploreSummary execute(const ExploreOptions& opts);
+};
+
+/// @brief Writes `s` as JSON. @throws std::runtime_error naming the path.
+void writeExploreSummary(const ExploreSummary& s, const std::string& path);
+
+}  // namespace voxplore::apps

@@ -1,0 +1,197 @@
+// voxplore-explore: command line, configuration and the exploration loop
+// (thesis fig. 4.4: scan -> SlamIcp -> plan -> stop-and-scan driving, 4.6).
+#include <mrpt/3rdparty/tclap/CmdLine.h>
+#include <mrpt/config/CConfigFileMemory.h>
+#include <mrpt/core/bits_math.h>
+#include <voxplore/apps/ExploreApp.h>
+#include <voxplore/apps/SimRobot.h>
+#include <voxplore/apps/app_common.h>
+#include <voxplore/common/config.h>
+#include <voxplore/exploration/Planner.h>
+#include <voxplore/mapping/SlamIcp.h>
+#include <voxplore/navigation/StopAndScanDriver.h>
+#include <voxplore/sim/SimConfig.h>
+#include <voxplore/sim/world_loading.h>
+
+#include <filesystem>
+#include <fstream>
+#include <iostream>
+
+#include "ExploreRun.h"
+
+namespace voxplore::apps
+{
+namespace fs = std::filesystem;
+
+namespace
+{
+const char* kDescription =
+    "voxplore-explore: autonomous exploration and 3D voxel mapping (thesis fig. 4.4). In a "
+    "simulated world the robot scans with all depth cameras, localises and maps with SlamIcp, "
+    "plans the next best view (or drives to the nearest frontier with --strategy nearest) and "
+    "drives the planned waypoints one at a time with MRPT's reactive navigator, stopping to "
+    "scan at each, until no frontier is left or a step/time limit. Writes DIR/map.bt, "
+    "DIR/map.simplemap, DIR/metaview.ply, DIR/run.rawlog (replayable by voxplore-replay), "
+    "DIR/trajectory_gt.tum, DIR/trajectory_est.tum, DIR/stops.csv, DIR/coverage.csv, "
+    "DIR/steps/step_NNN.png, DIR/params.ini and DIR/summary.json (coverage, map precision, "
+    "collisions, clearance, trajectory error against the world's ground truth).";
+
+std::set<std::string> knownSections()
+{
+  std::set<std::string> s = {"robot", "cameras", "simulator", ExploreParams::section()};
+  for (const auto& n : mapping::SlamIcpParams::sections()) s.insert(n);
+  for (const auto& n : exploration::PlannerParams::sections()) s.insert(n);
+  for (const auto& n : navigation::DriverParams::sections()) s.insert(n);
+  return s;
+}
+
+exploration::Strategy parseStrategy(const std::string& s)
+{
+  if (s == "nbv") return exploration::Strategy::NextBestView;
+  if (s == "nearest") return exploration::Strategy::NearestFrontier;
+  throw std::runtime_error("--strategy '" + s +
+                           "': expected nbv or nearest (overrides [planner] strategy)");
+}
+
+ExploreConfig loadConfig(const ExploreOptions& opts)
+{
+  std::unique_ptr<mrpt::config::CConfigFileBase> owned;
+  mrpt::config::CConfigFileMemory empty;
+  const mrpt::config::CConfigFileBase* cfg = &empty;
+  if (!opts.config.empty())
+  {
+    owned = common::openIniFile(opts.config);
+    common::assertKnownSections(*owned, knownSections());
+    cfg = owned.get();
+  }
+  ExploreConfig c;
+  c.sim = sim::SimConfig::load(*cfg, opts.robot);
+  c.slam.load(*cfg);
+  // r_coll follows the robot footprint unless [collision] r_coll_m is set.
+  c.planner.collision.r_coll_m = c.sim.robot.footprint().circumradius();
+  c.planner.load(*cfg);
+  // The scan rating's virtual cameras are the robot's, unless [scan_rating] places them.
+  if (cfg->read_string("scan_rating", "cam0_pose", "").empty())
+  {
+    c.planner.rating.mounts = c.sim.cameras.mounts;
+  }
+  c.driver = navigation::DriverParams::forFootprint(c.sim.robot.length_m, c.sim.robot.width_m);
+  c.driver.max_v_mps = c.sim.robot.max_v_mps;
+  c.driver.max_w = c.sim.robot.max_w;
+  common::loadChecked(c.driver, *cfg, "navigation");
+  common::loadChecked(c.explore, *cfg, ExploreParams::section());
+  if (opts.seed)
+  {
+    c.sim.sim.seed = *opts.seed;
+    c.planner.seed = *opts.seed;
+  }
+  if (opts.strategy) c.planner.strategy = parseStrategy(*opts.strategy);
+  if (opts.max_steps) c.explore.max_steps = *opts.max_steps;
+  return c;
+}
+}  // namespace
+
+void ExploreParams::loadFromConfigFile(const mrpt::config::CConfigFileBase& c, const std::string& s)
+{
+  MRPT_LOAD_CONFIG_VAR(max_steps, int, c, s);
+  MRPT_LOAD_CONFIG_VAR(max_sim_time_s, double, c, s);
+  MRPT_LOAD_CONFIG_VAR(max_failures_per_target, int, c, s);
+  MRPT_LOAD_CONFIG_VAR(write_step_images, bool, c, s);
+  MRPT_LOAD_CONFIG_VAR(step_image_scale, int, c, s);
+  MRPT_LOAD_CONFIG_VAR(gt_floor_res_m, double, c, s);
+  MRPT_LOAD_CONFIG_VAR(band_z_min_m, double, c, s);
+  MRPT_LOAD_CONFIG_VAR(band_z_max_m, double, c, s);
+  common::requireValid(max_steps >= 0, c, s, "max_steps", "must be >= 0");
+  common::requireValid(max_sim_time_s > 0, c, s, "max_sim_time_s", "must be > 0");
+  common::requireValid(max_failures_per_target >= 1, c, s, "max_failures_per_target",
+                       "must be >= 1");
+  common::requireValid(step_image_scale >= 1, c, s, "step_image_scale", "must be >= 1");
+  common::requireValid(gt_floor_res_m > 0, c, s, "gt_floor_res_m", "must be > 0");
+  common::requireValid(band_z_max_m > band_z_min_m, c, s, "band_z_max_m",
+                       "must be above band_z_min_m");
+}
+
+void ExploreParams::saveToConfigFile(mrpt::config::CConfigFileBase& c, const std::string& s) const
+{
+  MRPT_SAVE_CONFIG_VAR(max_steps, c, s);
+  MRPT_SAVE_CONFIG_VAR(max_sim_time_s, c, s);
+  MRPT_SAVE_CONFIG_VAR(max_failures_per_target, c, s);
+  MRPT_SAVE_CONFIG_VAR(write_step_images, c, s);
+  MRPT_SAVE_CONFIG_VAR(step_image_scale, c, s);
+  MRPT_SAVE_CONFIG_VAR(gt_floor_res_m, c, s);
+  MRPT_SAVE_CONFIG_VAR(band_z_min_m, c, s);
+  MRPT_SAVE_CONFIG_VAR(band_z_max_m, c, s);
+}
+
+int ExploreApp::run(int argc, const char* const* argv)
+{
+  return runGuarded("voxplore-explore", [&]() {
+    TCLAP::CmdLine cmd(kDescription, ' ', "0.1");
+    TCLAP::ValueArg<std::string> config("c", "config", "ini file (e.g. config/explore.ini)", false,
+                                        "", "INI", cmd);
+    TCLAP::ValueArg<std::string> world("w", "world", "World: .world, mesh or floor-plan file",
+                                       false, "simulated_worlds/dlr_test_room.world", "FILE", cmd);
+    TCLAP::ValueArg<std::string> start(
+        "", "start", "Start pose x,y,yaw_deg (default: the world file's)", false, "", "x,y,yaw",
+        cmd);
+    TCLAP::ValueArg<std::string> robot("r", "robot", "Robot profile: omnirob | compact", false, "",
+                                       "NAME", cmd);
+    TCLAP::ValueArg<std::string> out("o", "out", "Output directory (created)", false,
+                                     "out/explore", "DIR", cmd);
+    TCLAP::ValueArg<int> seed("s", "seed", "Seed (overrides [simulator] and [planner] seed)",
+                              false, 1, "N", cmd);
+    TCLAP::ValueArg<std::string> strategy(
+        "", "strategy", "nbv | nearest (overrides [planner] strategy)", false, "", "NAME", cmd);
+    TCLAP::ValueArg<int> max_steps("n", "max-steps", "Planning steps at most (overrides "
+                                   "[explore] max_steps)", false, 0, "N", cmd);
+    TCLAP::SwitchArg quiet("q", "quiet", "No per-step lines and no parameter dump", cmd);
+    if (!cmd.parse(argc, const_cast<const char**>(argv)))
+      return exitCodeAfterFailedParse(argc, argv);
+    ExploreOptions o;
+    o.config = config.getValue();
+    o.world = world.getValue();
+    o.out_dir = out.getValue();
+    if (start.isSet()) o.start = start.getValue();
+    if (robot.isSet()) o.robot = robot.getValue();
+    if (seed.isSet()) o.seed = seed.getValue();
+    if (strategy.isSet()) o.strategy = strategy.getValue();
+    if (max_steps.isSet()) o.max_steps = max_steps.getValue();
+    o.quiet = quiet.getValue();
+    const auto s = execute(o);
+    std::cout << "voxplore-explore: " << s.termination_reason << " after " << s.steps
+              << " steps, " << s.stops << " stops; path " << s.path_length_m
+              << " m; coverage 2D " << s.coverage_2d << ", 3D " << s.coverage_3d
+              << "; map precision " << s.map_precision << "; collisions " << s.collisions
+              << "; ATE " << s.ate_rmse_m << " m -> " << o.out_dir << std::endl;
+    return 0;
+  });
+}
+
+ExploreSummary ExploreApp::execute(const ExploreOptions& opts)
+{
+  const ExploreConfig cfg = loadConfig(opts);
+  std::optional<mrpt::poses::CPose2D> start;
+  if (opts.start) start = sim::parseStartPose(*opts.start);
+  if (opts.world.empty()) throw std::runtime_error("no world file given (--world)");
+  auto world = sim::loadWorld(opts.world, start);
+  prepareOutputDir(opts.out_dir);
+
+  mrpt::config::CConfigFileMemory used;
+  cfg.sim.save(used);
+  cfg.slam.save(used);
+  cfg.planner.save(used);
+  cfg.driver.saveToConfigFile(used, "navigation");
+  cfg.explore.saveToConfigFile(used, ExploreParams::section());
+  std::ofstream(fs::path(opts.out_dir) / "params.ini")
+      << "# voxplore-explore parameters in force\n" << used.getContent();
+  if (!opts.quiet)
+    std::cout << "voxplore-explore: world '" << world.source_path << "', start " << world.start
+              << "\n--- parameters in force ---\n" << used.getContent()
+              << "---------------------------" << std::endl;
+
+  sim::Simulator simulator(std::move(world), cfg.sim.robot, cfg.sim.cameras, cfg.sim.sim);
+  ExploreRun run(simulator, cfg, opts.out_dir, opts.quiet);
+  return run.execute();
+}
+
+}  // namespace voxplore::apps

@@ -1,0 +1,42 @@
+/* voxplore — internals of ExploreApp shared by its source files (not installed). */
+#pragma once
+
+#include <mrpt/poses/CPose2D.h>
+#include <mrpt/poses/CPose3D.h>
+#include <voxplore/exploration/stages.h>
+#include <voxplore/sim/CollisionChecker.h>
+#include <voxplore/sim/ground_truth.h>
+
+#include <Eigen/Core>
+#include <vector>
+
+namespace voxplore::apps::explore_detail
+{
+/// @brief Share of the ground-truth free floor (world frame, cells = 1) whose
+///        cell centre falls into a Free cell of the map-frame ground grid `g`.
+/// @param T_world_map the map frame in the world (the robot's start pose)
+/// @return 0 when the ground truth has no free cell
+double coverage2d(
+    const exploration::GroundGrid& g, const sim::FloorGrid& free_floor_world,
+    const mrpt::poses::CPose2D& T_world_map);
+
+/// @brief Share of the ground-truth surface voxels `band` (world frame,
+///        resolution res_m) that have an occupied map voxel within one voxel
+///        (3 x 3 x 3 neighbourhood, the tolerance of eval::mapPrecision).
+/// @return 0 when `band` is empty
+double coverage3d(
+    const std::vector<Eigen::Vector3d>& occupied_centers_map, const mrpt::poses::CPose3D& T_world_map,
+    const std::vector<sim::VoxelIndex>& band, double res_m);
+
+/// @brief Smallest distance between the footprint and the world geometry
+///        over `trajectory_world`: for each pose, bisection on the margin d
+///        by which the footprint rectangle is grown on every side until it
+///        touches an obstacle (CollisionChecker::collides), to 1 mm. The
+///        grown rectangle covers the true d-offset shape, so the value is a
+///        lower bound within the rectangle's corner rounding.
+/// @return 0 when a pose collides; `cap_m` when nothing is within cap_m
+double minClearance(
+    const sim::CollisionChecker& checker, const sim::Footprint& footprint,
+    const std::vector<mrpt::poses::CPose2D>& trajectory_world, double cap_m = 2.0);
+
+}  // namespace voxplore::apps::explore_detail

@@ -1,0 +1,141 @@
+// voxplore-explore: outputs (logs, coverage.csv, step images, summary.json)
+// and the ground-truth evaluation of a finished run.
+#include <mrpt/core/format.h>
+#include <voxplore/eval/map_accuracy.h>
+#include <voxplore/eval/trajectory_error.h>
+
+#include <filesystem>
+#include <iomanip>
+#include <iostream>
+
+#include "ExploreApp_internal.h"
+#include "ExploreRun.h"
+
+namespace voxplore::apps
+{
+namespace fs = std::filesystem;
+
+void writeExploreSummary(const ExploreSummary& s, const std::string& path)
+{
+  std::ofstream f(path);
+  if (!f) throw std::runtime_error("cannot write '" + path + "'");
+  f << std::setprecision(9);
+  f << "{\n  \"termination_reason\": \"" << s.termination_reason << "\",\n  \"steps\": " << s.steps
+    << ",\n  \"stops\": " << s.stops << ",\n  \"failed_drives\": " << s.failed_drives
+    << ",\n  \"blacklisted\": " << s.blacklisted << ",\n  \"path_length_m\": " << s.path_length_m
+    << ",\n  \"coverage_2d\": " << s.coverage_2d << ",\n  \"coverage_3d\": " << s.coverage_3d
+    << ",\n  \"map_precision\": " << s.map_precision
+    << ",\n  \"map_precision_above_floor\": " << s.map_precision_above_floor << ",\n  \"collisions\": " << s.collisions
+    << ",\n  \"min_clearance_m\": " << s.min_clearance_m << ",\n  \"ate_rmse_m\": " << s.ate_rmse_m
+    << ",\n  \"compute_s\": " << s.compute_s << ",\n  \"sim_time_s\": " << s.sim_time_s << "\n}\n";
+}
+
+void ExploreRun::openOutputs()
+{
+  const fs::path dir(out_dir_);
+  rawlog_ = std::make_unique<common::RawlogWriter>((dir / "run.rawlog").string());
+  gt_tum_ = std::make_unique<common::TumWriter>((dir / "trajectory_gt.tum").string());
+  est_tum_ = std::make_unique<common::TumWriter>((dir / "trajectory_est.tum").string());
+  coverage_csv_.open(dir / "coverage.csv");
+  if (!coverage_csv_) throw std::runtime_error("cannot write '" + (dir / "coverage.csv").string() + "'");
+  coverage_csv_ << "step,stops,sim_time_s,path_length_m,coverage_2d,frontiers,done,target_x,"
+                   "target_y,waypoints,ms_slam,ms_projection,ms_collision,ms_frontiers,"
+                   "ms_sampling,ms_rating,ms_path,ms_plan_total\n";
+  if (cfg_.explore.write_step_images) fs::create_directories(dir / "steps");
+}
+
+double ExploreRun::coverageOf(const exploration::GroundGrid& g) const
+{
+  return explore_detail::coverage2d(g, gt_floor_.free_floor, T_world_map_);
+}
+
+void ExploreRun::writeCoverageRow(const exploration::PlanResult& p, double coverage)
+{
+  coverage_csv_ << mrpt::format(
+      "%zu,%zu,%.3f,%.4f,%.5f,%zu,%s,%.3f,%.3f,%zu,%.1f,%.1f,%.1f,%.1f,%.1f,%.1f,%.1f,%.1f\n",
+      s_.steps, s_.stops, sim_.simTime(), s_.path_length_m, coverage,
+      p.frontiers ? p.frontiers->frontiers.size() : std::size_t(0),
+      p.ok() ? "no" : exploration::toString(p.done), p.target.x(), p.target.y(),
+      p.waypoints.size(), slam_ms_step_, p.ms.projection, p.ms.collision, p.ms.frontiers,
+      p.ms.sampling, p.ms.rating, p.ms.path, p.ms.total);
+  coverage_csv_.flush();
+}
+
+std::vector<mrpt::poses::CPose2D> ExploreRun::trajectoryInMap(double spacing_m) const
+{
+  const mrpt::poses::CPose2D T_map_world = -T_world_map_;
+  std::vector<mrpt::poses::CPose2D> out;
+  for (const auto& p : gt_path_)
+  {
+    const auto q = T_map_world + p;
+    if (out.empty() || q.distanceTo(out.back()) >= spacing_m) out.push_back(q);
+  }
+  return out;
+}
+
+void ExploreRun::writeStepImage(const exploration::PlanResult& plan)
+{
+  if (!plan.ground) return;
+  const auto path = fs::path(out_dir_) / "steps" / mrpt::format("step_%03zu.png", s_.steps);
+  exploration::renderPlan(plan, slam_.currentPose(), path.string(), trajectoryInMap(0.05),
+                          cfg_.explore.step_image_scale);
+}
+
+void ExploreRun::saveMapsAfterFailure() noexcept
+{
+  try
+  {
+    est_tum_.reset();
+    rawlog_.reset();
+    if (slam_.numStops() > 0) slam_.saveOutputs(out_dir_);
+  }
+  catch (const std::exception& e)
+  {
+    std::cerr << "voxplore-explore: could not save the maps after the failure: " << e.what()
+              << std::endl;
+  }
+}
+
+void ExploreRun::finish()
+{
+  est_tum_.reset();  // saveOutputs() rewrites trajectory_est.tum with the same poses
+  rawlog_.reset();
+  gt_tum_.reset();
+  slam_.saveOutputs(out_dir_);
+
+  const auto t0 = std::chrono::steady_clock::now();
+  const double res = cfg_.slam.octomap.l_res_m;
+  const mrpt::poses::CPose3D T_world_map3(T_world_map_);
+  const auto ground =
+      exploration::projectToGround(slam_.octomap().tree(), slam_.currentPose(), cfg_.planner.projection);
+  s_.coverage_2d = coverageOf(ground);
+  const auto occupied = slam_.octomap().occupiedVoxelCenters();
+  const auto band = sim::occupiedVoxels(sim_.world().mesh, res, cfg_.explore.band_z_min_m,
+                                        cfg_.explore.band_z_max_m);
+  s_.coverage_3d = explore_detail::coverage3d(occupied, T_world_map3, band, res);
+  const auto surface = sim::occupiedVoxels(sim_.world().mesh, res);
+  s_.map_precision = eval::mapPrecision(occupied, T_world_map3, surface, res).precision;
+  // The floor is most of the occupied voxels and matches the ground plane
+  // whatever the pose error: report the precision without it as well.
+  std::vector<Eigen::Vector3d> above_floor;
+  for (const auto& c : occupied)
+    if (c.z() > res) above_floor.push_back(c);
+  s_.map_precision_above_floor =
+      eval::mapPrecision(above_floor, T_world_map3, surface, res).precision;
+  s_.collisions = sim_.robot().collisions();
+  s_.min_clearance_m =
+      explore_detail::minClearance(sim_.checker(), cfg_.sim.robot.footprint(), gt_path_);
+  const fs::path dir(out_dir_);
+  s_.ate_rmse_m = eval::trajectoryError(common::readTum((dir / "trajectory_est.tum").string()),
+                                        common::readTum((dir / "trajectory_gt.tum").string()))
+                      .ate_rmse_m;
+  s_.compute_s = compute_s_;
+  s_.sim_time_s = sim_.simTime();
+  writeExploreSummary(s_, (dir / "summary.json").string());
+  if (!quiet_)
+    std::cout << mrpt::format("voxplore-explore: evaluation against ground truth took %.1f s",
+                              std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count())
+              << std::endl;
+}
+
+}  // namespace voxplore::apps

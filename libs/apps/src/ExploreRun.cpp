@@ -1,0 +1,188 @@
+// voxplore-explore: the exploration loop (thesis fig. 4.4) with stop-and-scan
+// driving (thesis 4.6): scan -> SlamIcp -> plan -> one waypoint at a time,
+// stop and scan at each; a failed drive scans and replans, a frontier that
+// fails max_failures_per_target times is blacklisted (as explore_lite does).
+#include <mrpt/core/format.h>
+
+#include <chrono>
+#include <cmath>
+#include <iostream>
+
+#include "ExploreRun.h"
+
+namespace voxplore::apps
+{
+namespace
+{
+double secondsSince(std::chrono::steady_clock::time_point t0)
+{
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+}
+}  // namespace
+
+ExploreRun::ExploreRun(
+    sim::Simulator& sim, const ExploreConfig& cfg, std::string out_dir, bool quiet)
+    : sim_(sim),
+      cfg_(cfg),
+      out_dir_(std::move(out_dir)),
+      quiet_(quiet),
+      robot_(sim),
+      slam_(cfg.slam),
+      T_world_map_(sim.robot().groundTruth())
+{
+  driver_ = std::make_unique<navigation::StopAndScanDriver>(robot_, cfg_.driver);
+  robot_.on_step = [this]() { onRobotStep(); };
+  // Between stops the navigator sees the SLAM pose of the last stop composed
+  // with the odometry increment since then (never the ground truth).
+  robot_.setPoseSource(
+      [this]() { return pose_at_stop_ + (robot_.odometry() - odo_at_stop_); });
+  gt_floor_ = sim::reachableFreeFloor(sim_.world(), sim_.checker(), T_world_map_,
+                                      cfg_.planner.collision.r_coll_m, cfg_.explore.gt_floor_res_m);
+  gt_path_.push_back(T_world_map_);
+}
+
+ExploreSummary ExploreRun::execute()
+{
+  openOutputs();
+  try
+  {
+    loop();
+  }
+  catch (const std::exception& e)
+  {
+    saveMapsAfterFailure();
+    throw std::runtime_error(std::string(e.what()) + " (the maps and logs of the " +
+                             std::to_string(slam_.numStops()) + " stops so far are in " +
+                             out_dir_ + ")");
+  }
+  finish();
+  return s_;
+}
+
+void ExploreRun::loop()
+{
+  scanAndIntegrate();
+  for (std::size_t step = 0;; step++)
+  {
+    if (step >= static_cast<std::size_t>(cfg_.explore.max_steps))
+    {
+      s_.termination_reason = "max_steps";
+      return;
+    }
+    if (sim_.simTime() >= cfg_.explore.max_sim_time_s)
+    {
+      s_.termination_reason = "max_sim_time";
+      return;
+    }
+    const auto t0 = std::chrono::steady_clock::now();
+    const auto plan = exploration::plan(slam_.octomap().tree(), slam_.currentPose(), cfg_.planner,
+                                        blacklist_, step);
+    const double plan_s = secondsSince(t0);
+    compute_s_ += plan_s;
+    s_.steps = step + 1;
+    reportStep(plan, plan_s * 1e3);
+    slam_ms_step_ = 0;
+    if (!plan.ok())
+    {
+      s_.termination_reason = exploration::toString(plan.done);
+      return;
+    }
+    driveWaypoints(plan);
+  }
+}
+
+void ExploreRun::scanAndIntegrate()
+{
+  const auto stop = sim_.scan();
+  rawlog_->write(*stop.actions, *stop.observations);
+  const double t = mrpt::Clock::toDouble(stop.timestamp);
+  gt_tum_->write(t, mrpt::poses::CPose3D(stop.T_world_robot_gt));
+  const auto t0 = std::chrono::steady_clock::now();
+  const auto rep = slam_.processStop(*stop.observations, stop.odometry, stop.timestamp);
+  const double dt = secondsSince(t0);
+  compute_s_ += dt;
+  slam_ms_step_ += dt * 1e3;
+  est_tum_->write(t, mrpt::poses::CPose3D(rep.pose));
+  pose_at_stop_ = rep.pose;
+  odo_at_stop_ = robot_.odometry();
+  s_.stops = slam_.numStops();
+  if (rep.flagged && !quiet_)
+    std::cout << "  stop " << rep.index << ": ICP flagged (" << rep.icp.reason
+              << "), pose from odometry" << std::endl;
+}
+
+bool ExploreRun::driveWaypoints(const exploration::PlanResult& plan)
+{
+  const auto& wps = plan.waypoints;
+  for (std::size_t i = 0; i < wps.size(); i++)
+  {
+    const bool last = i + 1 == wps.size();
+    const auto r = driver_->driveTo(wps[i], last ? std::optional<double>(plan.target.phi())
+                                                 : std::nullopt);
+    scanAndIntegrate();
+    if (!r.reached())
+    {
+      s_.failed_drives++;
+      if (!quiet_)
+        std::cout << "  waypoint " << i + 1 << "/" << wps.size() << " ("
+                  << mrpt::format("%.2f, %.2f", wps[i].x(), wps[i].y())
+                  << "): " << navigation::toString(r.outcome) << ": " << r.message
+                  << "; replanning" << std::endl;
+      registerFailure(plan.frontier ? plan.frontier->center : wps.back());
+      return false;
+    }
+  }
+  return true;
+}
+
+void ExploreRun::registerFailure(const Eigen::Vector2d& target)
+{
+  const double radius = cfg_.planner.sampling.blacklist_radius_m;
+  auto it = std::find_if(failures_.begin(), failures_.end(),
+                         [&](const auto& f) { return (f.first - target).norm() <= radius; });
+  if (it == failures_.end())
+  {
+    failures_.emplace_back(target, 0);
+    it = std::prev(failures_.end());
+  }
+  if (++it->second >= cfg_.explore.max_failures_per_target)
+  {
+    blacklist_.push_back(target);
+    s_.blacklisted = blacklist_.size();
+    if (!quiet_)
+      std::cout << "  target " << mrpt::format("(%.2f, %.2f)", target.x(), target.y())
+                << " failed " << it->second << " times: blacklisted" << std::endl;
+  }
+}
+
+void ExploreRun::onRobotStep()
+{
+  const auto& p = sim_.robot().groundTruth();
+  const auto& q = gt_path_.back();
+  const double d = std::hypot(p.x() - q.x(), p.y() - q.y());
+  const double dyaw = std::abs(mrpt::math::wrapToPi(p.phi() - q.phi()));
+  if (d < 0.005 && dyaw < mrpt::DEG2RAD(0.5)) return;
+  s_.path_length_m += d;
+  gt_path_.push_back(p);
+}
+
+void ExploreRun::reportStep(const exploration::PlanResult& plan, double plan_ms)
+{
+  const double coverage = plan.ground ? coverageOf(*plan.ground) : 0.0;
+  writeCoverageRow(plan, coverage);
+  if (cfg_.explore.write_step_images) writeStepImage(plan);
+  if (quiet_) return;
+  std::cout << mrpt::format(
+                   "step %3zu: stops %3zu  sim %6.1f s  path %6.2f m  coverage %5.3f  "
+                   "collisions %zu  plan %6.0f ms  slam %6.0f ms  ",
+                   s_.steps, s_.stops, sim_.simTime(), s_.path_length_m, coverage,
+                   sim_.robot().collisions(), plan_ms, slam_ms_step_)
+            << (plan.ok() ? mrpt::format("-> target (%.2f, %.2f, %.0f deg), %zu waypoints",
+                                         plan.target.x(), plan.target.y(),
+                                         mrpt::RAD2DEG(plan.target.phi()), plan.waypoints.size())
+                          : std::string("done: ") + exploration::toString(plan.done) + " (" +
+                                plan.message + ")")
+            << std::endl;
+}
+
+}  // namespace voxplore::apps
