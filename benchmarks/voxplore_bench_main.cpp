@@ -6,8 +6,10 @@
 //   slam-integration  the table 5.2 row only (poses: ICP replay at d_min 20 mm, or --poses gt)
 //   planner           table 5.2's planner rows (projection ... path) beside the naive scan rating
 //   all               every set above
+//   strategies        exploration end to end, nbv beside nearest on every world (issue 5;
+//                     minutes, so not part of 'all')
 //
-// Later tables (strategies) register in tables() below.
+// Later tables register in tables() below.
 #include <mrpt/3rdparty/tclap/CmdLine.h>
 #include <mrpt/config/CConfigFileMemory.h>
 #include <voxplore/apps/app_common.h>
@@ -21,6 +23,7 @@
 
 #include "bench_planner.h"
 #include "bench_slam.h"
+#include "bench_strategies.h"
 #include "bench_table.h"
 
 using namespace voxplore;
@@ -33,13 +36,17 @@ const char* kDescription =
     "(metaview point reduction d_min: integration into M, ICP, points in M, ATE against "
     "ground truth) and table 5.2's row 'integration into V' (l_res sweep, "
     "OctoMapLayer::insertScan vs OcTree::insertPointCloud); 'slam-dmin' and "
-    "'slam-integration' run one of them. Run it pinned to one core in a Release build: "
+    "'slam-integration' run one of them; 'planner' = table 5.2's planner rows; 'strategies' = "
+    "voxplore-explore on every world with --strategy nbv beside nearest (steps, travel, "
+    "coverage, compute time; shared worlds from simulated_worlds/shared_world_starts.txt). Run it "
+    "pinned to one core in a Release build: "
     "taskset -c 1 build/bin/voxplore-bench";
 
 /// Everything the command line sets (each table reads its part).
 struct BenchOptions
 {
   bench::SlamBenchOptions slam;
+  bench::StrategyBenchOptions strategies;
 };
 
 /// A named set of tables.
@@ -93,6 +100,8 @@ std::vector<TableSet> tables()
          runSlam(o.slam, true, true, out);
          bench::runPlannerTable(o.slam, out);
        }},
+      {"strategies", [](const BenchOptions& o, std::ostream& out)
+       { bench::runStrategiesTable(o.strategies, out); }},
   };
 }
 
@@ -170,6 +179,10 @@ int run(int argc, char** argv)
                                    false, 1, "R", cmd);
   TCLAP::ValueArg<std::string> csv("", "csv", "Write the tables as CSV into DIR (created)", false,
                                    "", "DIR", cmd);
+  TCLAP::ValueArg<int> max_steps("", "max-steps",
+                                 "strategies: planning steps at most per run (overrides "
+                                 "[explore] max_steps of config/explore.ini)",
+                                 false, 0, "N", cmd);
   TCLAP::SwitchArg quiet("q", "quiet", "No progress or parameters on stderr", cmd);
   if (!cmd.parse(argc, argv)) return apps::exitCodeAfterFailedParse(argc, argv);
 
@@ -193,6 +206,13 @@ int run(int argc, char** argv)
   o.slam.csv_dir = csv.getValue();
   o.slam.quiet = quiet.getValue();
   if (!o.slam.csv_dir.empty()) apps::prepareOutputDir(o.slam.csv_dir);
+  o.strategies.config = src + "/config/explore.ini";
+  o.strategies.source_dir = src;
+  o.strategies.shared_worlds_dir = VOXPLORE_SHARED_WORLDS_DIR;
+  o.strategies.starts_file = src + "/simulated_worlds/shared_world_starts.txt";
+  if (max_steps.isSet()) o.strategies.max_steps = max_steps.getValue();
+  o.strategies.csv_dir = o.slam.csv_dir;
+  o.strategies.quiet = o.slam.quiet;
 
   printHeader(table, std::cout);
   for (const auto& s : sets)

@@ -2,6 +2,7 @@
 // of dlr_test_room must terminate by itself with full coverage, no collision
 // and an accurate map; same seed, same run; bad options are errors naming the key.
 #include <gtest/gtest.h>
+#include <mrpt/img/CImage.h>
 #include <octomap/OcTree.h>
 #include <voxplore/apps/ExploreApp.h>
 #include <voxplore/eval/map_accuracy.h>
@@ -62,8 +63,22 @@ TEST(Explore, DlrTestRoomIsExploredCompletelySafelyAndAccurately)
 
   for (const char* f : {"map.bt", "map.simplemap", "metaview.ply", "run.rawlog",
                         "trajectory_gt.tum", "trajectory_est.tum", "coverage.csv", "stops.csv",
-                        "params.ini", "summary.json", "steps/step_001.png"})
+                        "params.ini", "summary.json", "steps/step_001.png", "coverage.png"})
     EXPECT_TRUE(fs::is_regular_file(fs::path(out) / f)) << f;
+
+  // coverage.png (coverage per step, thesis fig. 5.3): a real PNG with a plot in it.
+  const auto png = fs::path(out) / "coverage.png";
+  {
+    std::ifstream f(png, std::ios::binary);
+    char magic[8] = {};
+    f.read(magic, sizeof(magic));
+    EXPECT_EQ(std::string(magic, sizeof(magic)), std::string("\x89PNG\r\n\x1a\n", 8));
+  }
+  EXPECT_GT(fs::file_size(png), 2000u);  // axes, labels and a curve, not a blank image
+  mrpt::img::CImage plot;
+  ASSERT_TRUE(plot.loadFromFile(png.string()));
+  EXPECT_GE(plot.getWidth(), 320u);
+  EXPECT_GE(plot.getHeight(), 200u);
 
   // summary.json holds every field the issue asks for, equal to the returned summary.
   const auto j = readJson(fs::path(out) / "summary.json");

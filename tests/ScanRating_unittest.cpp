@@ -285,9 +285,9 @@ TEST(ScanRating, FastEqualsNaiveOnARoomMap)
   std::mt19937 rng(42);
   std::uniform_real_distribution<double> ux(-3.0, 3.0), uy(-2.0, 2.0), uyaw(-M_PI, M_PI);
   ScanRatingParams p;
-  for (int i = 0; i < 8; i++)
+  for (int i = 0; i < 6; i++)
   {
-    p.beam_reduction = i < 2 ? 1 : 2;
+    p.beam_reduction = i < 1 ? 1 : 2;
     const CPose2D pose(ux(rng), uy(rng), uyaw(rng));
     const auto fast = rateScan(map, pose, p);
     const auto naive = rateScanNaive(map, pose, p);
@@ -317,6 +317,43 @@ TEST(ScanRating, FastEqualsNaiveWithManyDistinctValues)
     expectSameRating(rateScan(t, pose, p), naive, pose.asString());
     expectSameRating(rateScanPortable(t, pose, p), naive, "portable " + pose.asString());
   }
+}
+
+TEST(ScanRating, RatingsLeaveNothingBehind)
+{
+  // rateScan reuses per-thread scratch (a voxel window stamped per rating,
+  // cleared every 63 ratings): 70 ratings alternating two maps and a small
+  // and a large window give the first answers every time.
+  const OcTree& room = roomMap();
+  OcTree shell(0.05);
+  setBox(shell, point3d(-1.1f, -1.1f, -0.6f), point3d(1.1f, 1.1f, 1.6f), octomap::logodds(0.3));
+  ScanRatingParams near, far;
+  near.beam_reduction = far.beam_reduction = 6;
+  near.max_range_m = 2.0;
+  const CPose2D pose(0.3, -0.2, 0.7);
+  const ScanRating first[3] = {rateScan(room, pose, near), rateScan(room, pose, far),
+                               rateScan(shell, pose, far)};
+  expectSameRating(first[0], rateScanNaive(room, pose, near), "room, 2 m");
+  expectSameRating(first[1], rateScanNaive(room, pose, far), "room, 7 m");
+  expectSameRating(first[2], rateScanNaive(shell, pose, far), "shell, 7 m");
+  for (int i = 0; i < 70; i++)
+  {
+    const ScanRating r = i % 3 == 0   ? rateScan(room, pose, near)
+                         : i % 3 == 1 ? rateScan(room, pose, far)
+                                      : rateScan(shell, pose, far);
+    ASSERT_EQ(r.voxels, first[i % 3].voxels) << "rating " << i;
+    ASSERT_EQ(r.gain, first[i % 3].gain) << "rating " << i;
+  }
+}
+
+TEST(ScanRating, LongRangeFallsBackToTheNaiveRating)
+{
+  // Beyond ~12 m at 5 cm the window would exceed 32 M cells: the naive path.
+  ScanRatingParams p;
+  p.beam_reduction = 8;
+  p.max_range_m = 20.0;
+  const CPose2D pose(0.5, 0.5, 0.1);
+  expectSameRating(rateScan(roomMap(), pose, p), rateScanNaive(roomMap(), pose, p), "20 m");
 }
 
 // --------------------------------------------------------------------- bestRated

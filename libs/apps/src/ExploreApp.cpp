@@ -96,6 +96,8 @@ void ExploreParams::loadFromConfigFile(const mrpt::config::CConfigFileBase& c, c
   MRPT_LOAD_CONFIG_VAR(max_steps, int, c, s);
   MRPT_LOAD_CONFIG_VAR(max_sim_time_s, double, c, s);
   MRPT_LOAD_CONFIG_VAR(max_failures_per_target, int, c, s);
+  MRPT_LOAD_CONFIG_VAR(max_plans_per_target, int, c, s);
+  MRPT_LOAD_CONFIG_VAR(min_progress_m, double, c, s);
   MRPT_LOAD_CONFIG_VAR(write_step_images, bool, c, s);
   MRPT_LOAD_CONFIG_VAR(step_image_scale, int, c, s);
   MRPT_LOAD_CONFIG_VAR(gt_floor_res_m, double, c, s);
@@ -103,6 +105,8 @@ void ExploreParams::loadFromConfigFile(const mrpt::config::CConfigFileBase& c, c
   MRPT_LOAD_CONFIG_VAR(band_z_max_m, double, c, s);
   common::requireValid(max_steps >= 0, c, s, "max_steps", "must be >= 0");
   common::requireValid(max_sim_time_s > 0, c, s, "max_sim_time_s", "must be > 0");
+  common::requireValid(max_plans_per_target >= 1, c, s, "max_plans_per_target", "must be >= 1");
+  common::requireValid(min_progress_m >= 0, c, s, "min_progress_m", "must be >= 0");
   common::requireValid(max_failures_per_target >= 1, c, s, "max_failures_per_target",
                        "must be >= 1");
   common::requireValid(step_image_scale >= 1, c, s, "step_image_scale", "must be >= 1");
@@ -116,6 +120,8 @@ void ExploreParams::saveToConfigFile(mrpt::config::CConfigFileBase& c, const std
   MRPT_SAVE_CONFIG_VAR(max_steps, c, s);
   MRPT_SAVE_CONFIG_VAR(max_sim_time_s, c, s);
   MRPT_SAVE_CONFIG_VAR(max_failures_per_target, c, s);
+  MRPT_SAVE_CONFIG_VAR(max_plans_per_target, c, s);
+  MRPT_SAVE_CONFIG_VAR(min_progress_m, c, s);
   MRPT_SAVE_CONFIG_VAR(write_step_images, c, s);
   MRPT_SAVE_CONFIG_VAR(step_image_scale, c, s);
   MRPT_SAVE_CONFIG_VAR(gt_floor_res_m, c, s);

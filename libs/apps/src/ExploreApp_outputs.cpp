@@ -1,12 +1,16 @@
-// voxplore-explore: outputs (logs, coverage.csv, step images, summary.json)
-// and the ground-truth evaluation of a finished run.
+// voxplore-explore: outputs (logs, coverage.csv, coverage.png, step images,
+// summary.json) and the ground-truth evaluation of a finished run.
 #include <mrpt/core/format.h>
+#include <mrpt/img/CImage.h>
 #include <voxplore/eval/map_accuracy.h>
 #include <voxplore/eval/trajectory_error.h>
 
+#include <algorithm>
+#include <cmath>
 #include <filesystem>
 #include <iomanip>
 #include <iostream>
+#include <sstream>
 
 #include "ExploreApp_internal.h"
 #include "ExploreRun.h"
@@ -14,6 +18,97 @@
 namespace voxplore::apps
 {
 namespace fs = std::filesystem;
+
+namespace
+{
+/// @brief The coverage_2d column of a coverage.csv, one value per step.
+/// @return empty when the file cannot be read, has no such column or no rows
+std::vector<double> readCoverageSeries(const fs::path& csv_path)
+{
+  std::ifstream f(csv_path);
+  std::string line;
+  if (!std::getline(f, line)) return {};
+  std::size_t column = 0;
+  {
+    std::istringstream header(line);
+    std::string name;
+    while (std::getline(header, name, ',') && name != "coverage_2d") column++;
+    if (name != "coverage_2d") return {};
+  }
+  std::vector<double> series;
+  while (std::getline(f, line))
+  {
+    std::istringstream row(line);
+    std::string cell;
+    for (std::size_t i = 0; i <= column; i++) std::getline(row, cell, ',');
+    series.push_back(std::stod(cell));
+  }
+  return series;
+}
+
+/// @brief Tick spacing (1, 2, 5, 10, 20, 50, ...) giving at most `max_ticks` ticks over `span`.
+int tickStep(std::size_t span, int max_ticks)
+{
+  for (int magnitude = 1;; magnitude *= 10)
+    for (const int m : {1, 2, 5})
+      if (static_cast<double>(span) / (m * magnitude) <= max_ticks) return m * magnitude;
+}
+
+/// @brief Coverage per planning step (thesis fig. 5.3): coverage_2d (0..1)
+///        over steps 1..N as a polyline with a mark per step, y grid every
+///        0.1, labelled step ticks, in a 640 x 400 RGB PNG.
+/// @throws std::runtime_error naming the path when it cannot be written.
+void writeCoveragePlot(const std::vector<double>& coverage, const std::string& png_path)
+{
+  using mrpt::img::TColor;
+  constexpr int kW = 640, kH = 400, kLeft = 52, kRight = 20, kTop = 28, kBottom = 44;
+  constexpr int kPlotW = kW - kLeft - kRight, kPlotH = kH - kTop - kBottom;
+  mrpt::img::CImage img(kW, kH, mrpt::img::CH_RGB);
+  img.filledRectangle(0, 0, kW - 1, kH - 1, TColor(255, 255, 255));
+  img.selectTextFont("6x13");
+
+  const std::size_t n_steps = std::max<std::size_t>(coverage.size(), 1);
+  const auto px = [&](double step)
+  { return kLeft + static_cast<int>(std::lround(step / static_cast<double>(n_steps) * kPlotW)); };
+  const auto py = [&](double c)
+  { return kTop + kPlotH - static_cast<int>(std::lround(std::clamp(c, 0.0, 1.0) * kPlotH)); };
+
+  // y: grid and labels every 0.1 (coverage), x: ticks and labels (steps).
+  for (int i = 0; i <= 10; i++)
+  {
+    const int y = py(i / 10.0);
+    img.line(kLeft, y, kLeft + kPlotW, y, TColor(225, 225, 225));
+    img.line(kLeft - 4, y, kLeft, y, TColor(0, 0, 0));
+    if (i % 2 == 0) img.textOut(kLeft - 30, y - 6, mrpt::format("%.1f", i / 10.0), TColor(0, 0, 0));
+  }
+  const int every = tickStep(n_steps, 20);
+  for (std::size_t s = 0; s <= n_steps; s += every)
+  {
+    const int x = px(static_cast<double>(s));
+    img.line(x, kTop + kPlotH, x, kTop + kPlotH + 4, TColor(0, 0, 0));
+    const auto label = std::to_string(s);
+    img.textOut(x - 3 * static_cast<int>(label.size()), kTop + kPlotH + 7, label, TColor(0, 0, 0));
+  }
+  img.line(kLeft, kTop, kLeft, kTop + kPlotH, TColor(0, 0, 0));
+  img.line(kLeft, kTop + kPlotH, kLeft + kPlotW, kTop + kPlotH, TColor(0, 0, 0));
+  img.textOut(kLeft + kPlotW / 2 - 42, kH - 16, "planning step", TColor(0, 0, 0));
+  img.textOut(kLeft, 8,
+              coverage.empty() ? std::string("coverage_2d per step (no step yet)")
+                               : mrpt::format("coverage_2d per step: %.3f after %zu steps",
+                                              coverage.back(), coverage.size()),
+              TColor(0, 0, 0));
+
+  // The series: step k (1-based) at x = k.
+  const TColor blue(30, 90, 200);
+  for (std::size_t k = 0; k < coverage.size(); k++)
+  {
+    const int x = px(static_cast<double>(k + 1)), y = py(coverage[k]);
+    if (k > 0) img.line(px(static_cast<double>(k)), py(coverage[k - 1]), x, y, blue, 2);
+    img.drawMark(x, y, blue, '+', 3);
+  }
+  if (!img.saveToFile(png_path)) throw std::runtime_error("cannot write '" + png_path + "'");
+}
+}  // namespace
 
 void writeExploreSummary(const ExploreSummary& s, const std::string& path)
 {
@@ -59,6 +154,10 @@ void ExploreRun::writeCoverageRow(const exploration::PlanResult& p, double cover
       p.waypoints.size(), slam_ms_step_, p.ms.projection, p.ms.collision, p.ms.frontiers,
       p.ms.sampling, p.ms.rating, p.ms.path, p.ms.total);
   coverage_csv_.flush();
+  // coverage.png follows coverage.csv at every step (a few ms), so a run cut
+  // short still leaves it.
+  const fs::path dir(out_dir_);
+  writeCoveragePlot(readCoverageSeries(dir / "coverage.csv"), (dir / "coverage.png").string());
 }
 
 std::vector<mrpt::poses::CPose2D> ExploreRun::trajectoryInMap(double spacing_m) const
@@ -131,6 +230,7 @@ void ExploreRun::finish()
                       .ate_rmse_m;
   s_.compute_s = compute_s_;
   s_.sim_time_s = sim_.simTime();
+  writeCoveragePlot(readCoverageSeries(dir / "coverage.csv"), (dir / "coverage.png").string());
   writeExploreSummary(s_, (dir / "summary.json").string());
   if (!quiet_)
     std::cout << mrpt::format("voxplore-explore: evaluation against ground truth took %.1f s",

@@ -4,7 +4,9 @@
 // fails max_failures_per_target times is blacklisted (as explore_lite does).
 #include <mrpt/core/format.h>
 
+#include <algorithm>
 #include <chrono>
+#include <limits>
 #include <cmath>
 #include <iostream>
 
@@ -87,13 +89,24 @@ void ExploreRun::loop()
       s_.termination_reason = exploration::toString(plan.done);
       return;
     }
-    driveWaypoints(plan);
+    // A frontier planned again and again without disappearing (an unseeable
+    // hole, a target the robot already stands on) is given up, and a step
+    // that does not move the robot counts as a failed drive.
+    const Eigen::Vector2d target =
+        plan.frontier ? plan.frontier->center : Eigen::Vector2d(plan.target.x(), plan.target.y());
+    registerPlan(target);
+    const double path_before = s_.path_length_m;
+    if (driveWaypoints(plan) && s_.path_length_m - path_before < cfg_.explore.min_progress_m)
+      registerFailure(target);
   }
 }
 
 void ExploreRun::scanAndIntegrate()
 {
   const auto stop = sim_.scan();
+  // A scan advances the simulator's clock without a robot step: keep MRPT's
+  // simulated clock (owned by SimRobot for the navigator) in step with it.
+  mrpt::Clock::setSimulatedTime(sim_.now());
   rawlog_->write(*stop.actions, *stop.observations);
   const double t = mrpt::Clock::toDouble(stop.timestamp);
   gt_tum_->write(t, mrpt::poses::CPose3D(stop.T_world_robot_gt));
@@ -152,6 +165,28 @@ void ExploreRun::registerFailure(const Eigen::Vector2d& target)
     if (!quiet_)
       std::cout << "  target " << mrpt::format("(%.2f, %.2f)", target.x(), target.y())
                 << " failed " << it->second << " times: blacklisted" << std::endl;
+  }
+}
+
+void ExploreRun::registerPlan(const Eigen::Vector2d& target)
+{
+  const double radius = cfg_.planner.sampling.blacklist_radius_m;
+  auto it = std::find_if(plans_.begin(), plans_.end(),
+                         [&](const auto& f) { return (f.first - target).norm() <= radius; });
+  if (it == plans_.end())
+  {
+    plans_.emplace_back(target, 0);
+    it = std::prev(plans_.end());
+  }
+  if (++it->second >= cfg_.explore.max_plans_per_target)
+  {
+    blacklist_.push_back(target);
+    s_.blacklisted = blacklist_.size();
+    it->second = std::numeric_limits<int>::min();  // once
+    if (!quiet_)
+      std::cout << "  target " << mrpt::format("(%.2f, %.2f)", target.x(), target.y())
+                << " planned " << cfg_.explore.max_plans_per_target
+                << " times without being explored: blacklisted" << std::endl;
   }
 }
 

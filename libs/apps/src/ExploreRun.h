@@ -58,6 +58,8 @@ class ExploreRun
   /// @return false when a drive failed (the caller replans)
   bool driveWaypoints(const exploration::PlanResult& plan);
   void registerFailure(const Eigen::Vector2d& target);
+  /// Counts a plan for the frontier at `target`; blacklists it after max_plans_per_target.
+  void registerPlan(const Eigen::Vector2d& target);
   void onRobotStep();
   void reportStep(const exploration::PlanResult& plan, double plan_ms);
   // --- outputs and metrics (ExploreApp_outputs.cpp) ---
@@ -84,6 +86,7 @@ class ExploreRun
 
   std::vector<Eigen::Vector2d> blacklist_;
   std::vector<std::pair<Eigen::Vector2d, int>> failures_;
+  std::vector<std::pair<Eigen::Vector2d, int>> plans_;  ///< frontier centre -> plans so far
   std::vector<mrpt::poses::CPose2D> gt_path_;  ///< true poses, every robot step that moved
   double compute_s_ = 0, slam_ms_step_ = 0;
   ExploreSummary s_;

@@ -1,22 +1,22 @@
 /* voxplore — entropy scan rating of a candidate pose (thesis 3.7, 4.5.4).
  *
  * A rating at 5 cm and beam_reduction 1 takes ~1.5 M voxel steps (24,576
- * beams; near the cameras every voxel is crossed by ~6 beams) over ~250 k
- * distinct voxels in ~2,000 of the octree's 8x8x8-voxel nodes. So:
+ * beams; a voxel is crossed ~6 times on average, far more near the cameras)
+ * over ~250 k distinct voxels in ~2,000 of the octree's 8x8x8-voxel nodes. So:
  *  - voxels are looked up in a dense window of 16-bit cells over the rating's
  *    key box (scan_rating_window.h), filled lazily a depth-13 node at a time:
  *    one tree search per block instead of one per step, and the cell's
  *    "counted" bit is the distinct-voxel set (no hashing, nothing to clear);
- *  - each beam's DDA repeats OcTree::computeRayKeys' arithmetic exactly (so
- *    ours and rateScanNaive count the same voxels); where the CPU has AVX2
- *    four beams step together in vector registers, their cells fetched by
- *    one gather, and only new voxels, stops, unfilled blocks and beam ends
- *    leave the vector path (scan_rating_avx2.cpp).
+ *  - each beam's DDA repeats OcTree::computeRayKeys' arithmetic exactly, so
+ *    ours and rateScanNaive count the same voxels; the DDA set-ups (nine
+ *    divisions each) are done in batches of 64 beams;
+ *  - where the CPU has AVX2 four beams step together in vector registers and
+ *    their cells are handled without branches (scan_rating_avx2.cpp); else
+ *    one beam at a time (walkBeamsScalar).
  * Measured at 5 cm, beam_reduction 1, one core (bench_scan_rating): a hash
  * set of keys plus a hash-map cache of voxel values, one beam at a time,
- * ~18 ms per rating; the window, one beam at a time, ~12 ms; four AVX2 lanes
- * with the DDA set-ups batched, ~6.5 ms; the naive stock-OctoMap rating
- * ~125 ms.
+ * ~18 ms per rating; the window, one beam at a time, ~12-16 ms; four AVX2
+ * lanes, ~6.2 ms; the naive stock-OctoMap rating ~110 ms.
  */
 #include <octomap/OcTree.h>
 

@@ -21,8 +21,7 @@ VoxelWindow::VoxelWindow(const octomap::OcTree& V, float stop_log_odds,
   const std::size_t cells = n[0] * n[1] * n[2];
   if (cells > storage.capacity)
   {
-    // zero: epoch 0, never filled; +2 cells: a gather reads 4 bytes per cell
-    storage.cells = std::make_unique<uint16_t[]>(cells + 2);
+    storage.cells = std::make_unique<uint16_t[]>(cells);  // zero: epoch 0, never filled
     storage.capacity = cells;
     storage.epoch = 0;
   }
