@@ -2,6 +2,7 @@
  * best-rated pose (thesis 4.5.4 "Scan Rating"). */
 #include <mrpt/core/bits_math.h>
 #include <mrpt/poses/CPose3D.h>
+#include <voxplore/common/camera_mounts.h>
 #include <voxplore/common/config.h>
 
 #include <algorithm>
@@ -17,68 +18,8 @@ namespace voxplore::exploration
 {
 using mrpt::poses::CPose3D;
 
-namespace
-{
-/// The omniRob ring of 8 cameras, identical to sim::CameraRigParams::ringAround
-/// (libs/exploration must not depend on libs/sim): front, +-40 deg front pair,
-/// sides, rear pair and rear; each camera where its viewing direction leaves
-/// the footprint rectangle, pitched down by vfov/2 (top image row horizontal).
-std::vector<CPose3D> omniRobRing(double length_m, double width_m, double height_m, double vfov_rad)
-{
-  const double yaws_deg[] = {0, 40, -40, 90, -90, 140, -140, 180};
-  const double hl = 0.5 * length_m, hw = 0.5 * width_m;
-  std::vector<CPose3D> out;
-  for (double yd : yaws_deg)
-  {
-    const double yaw = mrpt::DEG2RAD(yd);
-    const double c = std::cos(yaw), s = std::sin(yaw);
-    const double tx = std::abs(c) > 1e-9 ? hl / std::abs(c) : std::numeric_limits<double>::max();
-    const double ty = std::abs(s) > 1e-9 ? hw / std::abs(s) : std::numeric_limits<double>::max();
-    const double t = std::min(tx, ty);
-    out.emplace_back(t * c, t * s, height_m, yaw, 0.5 * vfov_rad, 0.0);
-  }
-  return out;
-}
 
-std::string camKey(int i)
-{
-  return "cam" + std::to_string(i) + "_pose";
-}
-
-/// Replaces p.mounts by camN_pose (N < num_cameras) when any is given; all or none.
-void loadMounts(ScanRatingParams& p, int num_cameras, const mrpt::config::CConfigFileBase& c,
-                const std::string& s)
-{
-  using common::requireValid;
-  int given = 0;
-  for (int i = 0; i < num_cameras; i++) given += c.keyExists(s, camKey(i)) ? 1 : 0;
-  if (given == 0)
-  {
-    requireValid(num_cameras == static_cast<int>(p.mounts.size()), c, s, "num_cameras",
-                 "differs from the " + std::to_string(p.mounts.size()) +
-                     " default cameras: give camN_pose = x y z yaw_deg pitch_deg roll_deg for "
-                     "every camera");
-    return;
-  }
-  std::vector<CPose3D> mounts(num_cameras);
-  for (int i = 0; i < num_cameras; i++)
-  {
-    const std::string key = camKey(i);
-    if (!c.keyExists(s, key))
-      throw std::runtime_error(common::configSourceName(c) + ": [" + s + "] " + key +
-                               " missing: when any camN_pose is given, give all " +
-                               std::to_string(num_cameras) + " (x y z yaw_deg pitch_deg roll_deg)");
-    const auto v = common::parseNumberList(c.read_string(s, key, ""),
-                                           common::configSourceName(c) + ": [" + s + "] " + key);
-    requireValid(v.size() == 6, c, s, key, "expected 'x y z yaw_deg pitch_deg roll_deg'");
-    mounts[i] =
-        CPose3D(v[0], v[1], v[2], mrpt::DEG2RAD(v[3]), mrpt::DEG2RAD(v[4]), mrpt::DEG2RAD(v[5]));
-  }
-  p.mounts = std::move(mounts);
-}
-}  // namespace
-
-ScanRatingParams::ScanRatingParams() : mounts(omniRobRing(1.2, 0.712, 0.60, vfov)) {}
+ScanRatingParams::ScanRatingParams() : mounts(common::cameraRing(1.2, 0.712, 0.60, vfov)) {}
 
 void ScanRatingParams::loadFromConfigFile(const mrpt::config::CConfigFileBase& c,
                                           const std::string& s)
@@ -101,7 +42,7 @@ void ScanRatingParams::loadFromConfigFile(const mrpt::config::CConfigFileBase& c
   requireValid(hfov > 0 && hfov < M_PI, c, s, "hfov", "must be in (0, 180) deg");
   requireValid(vfov > 0 && vfov < M_PI, c, s, "vfov", "must be in (0, 180) deg");
   requireValid(num_cameras > 0, c, s, "num_cameras", "need at least one camera");
-  loadMounts(*this, num_cameras, c, s);
+  common::loadCameraMounts(c, s, num_cameras, mounts);
 }
 
 void ScanRatingParams::saveToConfigFile(mrpt::config::CConfigFileBase& c,
@@ -116,15 +57,7 @@ void ScanRatingParams::saveToConfigFile(mrpt::config::CConfigFileBase& c,
   MRPT_SAVE_CONFIG_VAR_DEGREES(hfov, c, s);
   MRPT_SAVE_CONFIG_VAR_DEGREES(vfov, c, s);
   MRPT_SAVE_CONFIG_VAR(num_cameras, c, s);
-  for (int i = 0; i < num_cameras; i++)
-  {
-    const auto& m = mounts[i];
-    std::ostringstream os;
-    os.precision(12);
-    os << m.x() << " " << m.y() << " " << m.z() << " " << mrpt::RAD2DEG(m.yaw()) << " "
-       << mrpt::RAD2DEG(m.pitch()) << " " << mrpt::RAD2DEG(m.roll());
-    c.write(s, camKey(i), os.str());
-  }
+  common::saveCameraMounts(c, s, mounts);
 }
 
 namespace detail

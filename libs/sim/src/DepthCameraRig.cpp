@@ -1,5 +1,6 @@
 #include <mrpt/core/exceptions.h>
 #include <mrpt/math/wrap2pi.h>
+#include <voxplore/common/camera_mounts.h>
 #include <voxplore/common/config.h>
 #include <voxplore/sim/DepthCameraRig.h>
 #include <voxplore/sim/RayCaster.h>
@@ -17,23 +18,7 @@ CameraRigParams::CameraRigParams() : mounts(ringAround(1.2, 0.712, 0.60, vfov)) 
 std::vector<CPose3D> CameraRigParams::ringAround(
     double length_m, double width_m, double height_m, double vfov_rad)
 {
-  // thesis 4.1.2 / DESIGN.md: front camera, +-40 deg front pair, sides, rear
-  // pair and rear. Each camera sits where its viewing direction leaves the
-  // footprint rectangle, so it sees nothing of the robot itself.
-  const double yaws_deg[] = {0, 40, -40, 90, -90, 140, -140, 180};
-  const double hl = 0.5 * length_m, hw = 0.5 * width_m;
-  std::vector<CPose3D> out;
-  for (double yd : yaws_deg)
-  {
-    const double yaw = mrpt::DEG2RAD(yd);
-    const double c = std::cos(yaw), s = std::sin(yaw);
-    const double tx = std::abs(c) > 1e-9 ? hl / std::abs(c) : std::numeric_limits<double>::max();
-    const double ty = std::abs(s) > 1e-9 ? hw / std::abs(s) : std::numeric_limits<double>::max();
-    const double t = std::min(tx, ty);
-    // Pitched down by half the vertical FoV: the top image row is horizontal.
-    out.emplace_back(t * c, t * s, height_m, yaw, 0.5 * vfov_rad, 0.0);
-  }
-  return out;
+  return common::cameraRing(length_m, width_m, height_m, vfov_rad);
 }
 
 void CameraRigParams::loadFromConfigFile(
@@ -60,32 +45,7 @@ void CameraRigParams::loadFromConfigFile(
   requireValid(range_units_m > 0 && max_range_m / range_units_m < 65535, c, s, "range_units_m",
                "must be > 0 and max_range_m / range_units_m must fit in uint16");
   requireValid(num_cameras > 0, c, s, "num_cameras", "need at least one camera");
-  // Either every camera's pose is given (camN_pose for N < num_cameras) or
-  // none, and then the current mounts (the default ring) are kept.
-  int given = 0;
-  for (int i = 0; i < num_cameras; i++) given += c.keyExists(s, "cam" + std::to_string(i) + "_pose");
-  if (given == 0)
-  {
-    requireValid(num_cameras == static_cast<int>(mounts.size()), c, s, "num_cameras",
-                 "differs from the " + std::to_string(mounts.size()) +
-                     " default cameras: give camN_pose = x y z yaw_deg pitch_deg roll_deg for "
-                     "every camera");
-    return;
-  }
-  mounts.resize(num_cameras);
-  for (int i = 0; i < num_cameras; i++)
-  {
-    const std::string key = "cam" + std::to_string(i) + "_pose";
-    if (!c.keyExists(s, key))
-      throw std::runtime_error(common::configSourceName(c) + ": [" + s + "] " + key +
-                               " missing: when any camN_pose is given, give all " +
-                               std::to_string(num_cameras) + " (x y z yaw_deg pitch_deg roll_deg)");
-    const auto v = common::parseNumberList(
-        c.read_string(s, key, ""), common::configSourceName(c) + ": [" + s + "] " + key);
-    requireValid(v.size() == 6, c, s, key, "expected 'x y z yaw_deg pitch_deg roll_deg'");
-    mounts[i] = CPose3D(v[0], v[1], v[2], mrpt::DEG2RAD(v[3]), mrpt::DEG2RAD(v[4]),
-                        mrpt::DEG2RAD(v[5]));
-  }
+  common::loadCameraMounts(c, s, num_cameras, mounts);
 }
 
 void CameraRigParams::saveToConfigFile(mrpt::config::CConfigFileBase& c, const std::string& s) const
@@ -100,15 +60,7 @@ void CameraRigParams::saveToConfigFile(mrpt::config::CConfigFileBase& c, const s
   MRPT_SAVE_CONFIG_VAR(range_noise_sigma_per_m, c, s);
   MRPT_SAVE_CONFIG_VAR(range_units_m, c, s);
   MRPT_SAVE_CONFIG_VAR(num_cameras, c, s);
-  for (int i = 0; i < num_cameras && i < static_cast<int>(mounts.size()); i++)
-  {
-    const auto& p = mounts[i];
-    std::ostringstream os;
-    os.precision(9);
-    os << p.x() << " " << p.y() << " " << p.z() << " " << mrpt::RAD2DEG(p.yaw()) << " "
-       << mrpt::RAD2DEG(p.pitch()) << " " << mrpt::RAD2DEG(p.roll());
-    c.write(s, "cam" + std::to_string(i) + "_pose", os.str());
-  }
+  common::saveCameraMounts(c, s, mounts);
 }
 
 mrpt::img::TCamera CameraRigParams::intrinsics() const
