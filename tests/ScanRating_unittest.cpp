@@ -472,25 +472,3 @@ TEST(ScanRating, BrokenParamsThrowWhenRating)
   EXPECT_THROW(rateScan(t, CPose2D(), p), std::invalid_argument);
 }
 
-TEST(ScanRating, NothingBelowTheFloorCounts)
-{
-  // An empty map, then the same map with an occupied layer 0.5 m below the
-  // floor: beams end at z = 0, so the layer changes nothing, and no beam
-  // gains from voxels under the floor.
-  OcTree empty(0.05), below(0.05);
-  const float occ = below.getClampingThresMaxLog();
-  for (double x = -8; x < 8; x += 0.05)
-    for (double y = -8; y < 8; y += 0.05)
-      below.setNodeValue(point3d(float(x + 0.025), float(y + 0.025), -0.475f), occ);
-  ScanRatingParams p;
-  p.beam_reduction = 2;
-  for (const auto& pose : {CPose2D(0, 0, 0), CPose2D(1.3, -0.7, 1.1)})
-  {
-    const ScanRating a = rateScan(empty, pose, p), b = rateScan(below, pose, p);
-    EXPECT_EQ(a.voxels, b.voxels);
-    EXPECT_DOUBLE_EQ(a.gain, b.gain);
-    const ScanRating n = rateScanNaive(below, pose, p);
-    EXPECT_EQ(n.voxels, b.voxels);
-    EXPECT_NEAR(n.gain, b.gain, 1e-9 * b.gain);
-  }
-}

@@ -105,7 +105,7 @@ void ExploreParams::loadFromConfigFile(const mrpt::config::CConfigFileBase& c, c
   MRPT_LOAD_CONFIG_VAR(band_z_max_m, double, c, s);
   common::requireValid(max_steps >= 0, c, s, "max_steps", "must be >= 0");
   common::requireValid(max_sim_time_s > 0, c, s, "max_sim_time_s", "must be > 0");
-  common::requireValid(max_plans_per_target >= 1, c, s, "max_plans_per_target", "must be >= 1");
+  common::requireValid(max_plans_per_target >= 0, c, s, "max_plans_per_target", "must be >= 0");
   common::requireValid(min_progress_m >= 0, c, s, "min_progress_m", "must be >= 0");
   common::requireValid(max_failures_per_target >= 1, c, s, "max_failures_per_target",
                        "must be >= 1");

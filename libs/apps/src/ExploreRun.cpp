@@ -104,9 +104,6 @@ void ExploreRun::loop()
 void ExploreRun::scanAndIntegrate()
 {
   const auto stop = sim_.scan();
-  // A scan advances the simulator's clock without a robot step: keep MRPT's
-  // simulated clock (owned by SimRobot for the navigator) in step with it.
-  mrpt::Clock::setSimulatedTime(sim_.now());
   rawlog_->write(*stop.actions, *stop.observations);
   const double t = mrpt::Clock::toDouble(stop.timestamp);
   gt_tum_->write(t, mrpt::poses::CPose3D(stop.T_world_robot_gt));
@@ -170,6 +167,7 @@ void ExploreRun::registerFailure(const Eigen::Vector2d& target)
 
 void ExploreRun::registerPlan(const Eigen::Vector2d& target)
 {
+  if (cfg_.explore.max_plans_per_target <= 0) return;
   const double radius = cfg_.planner.sampling.blacklist_radius_m;
   auto it = std::find_if(plans_.begin(), plans_.end(),
                          [&](const auto& f) { return (f.first - target).norm() <= radius; });

@@ -17,7 +17,7 @@ namespace voxplore::exploration::detail
 struct VirtualBeam
 {
   octomap::point3d origin;
-  octomap::point3d end;  ///< origin + max_range_m along the normalised pixel direction, cut at the floor z = 0
+  octomap::point3d end;  ///< origin + max_range_m along the normalised pixel direction
 };
 
 /// @brief Throws (naming the field) when `p` cannot drive a rating: no

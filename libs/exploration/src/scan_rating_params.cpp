@@ -105,19 +105,9 @@ void virtualBeams(const mrpt::poses::CPose2D& pose, const ScanRatingParams& p,
         const double dy = (cx - u) / fx, dz = (cy - v) / fy;
         const double k = p.max_range_m / std::sqrt(1.0 + dy * dy + dz * dz);
         const double lx = k, ly = dy * k, lz = dz * k;
-        double ex = R(0, 0) * lx + R(0, 1) * ly + R(0, 2) * lz;
-        double ey = R(1, 0) * lx + R(1, 1) * ly + R(1, 2) * lz;
-        double ez = R(2, 0) * lx + R(2, 1) * ly + R(2, 2) * lz;
-        // A planar robot learns nothing below its floor: a beam that would
-        // pass z = 0 ends there (else it would count unknown voxels under a
-        // floor not yet mapped as occupied and inflate every gain alike).
-        if (tz + ez < 0 && ez < 0)
-        {
-          const double f = tz / -ez;
-          ex *= f;
-          ey *= f;
-          ez *= f;
-        }
+        const double ex = R(0, 0) * lx + R(0, 1) * ly + R(0, 2) * lz;
+        const double ey = R(1, 0) * lx + R(1, 1) * ly + R(1, 2) * lz;
+        const double ez = R(2, 0) * lx + R(2, 1) * ly + R(2, 2) * lz;
         out.push_back({origin, octomap::point3d(static_cast<float>(tx + ex),
                                                 static_cast<float>(ty + ey),
                                                 static_cast<float>(tz + ez))});

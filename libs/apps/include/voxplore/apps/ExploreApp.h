@@ -15,7 +15,7 @@ struct ExploreParams : public mrpt::config::CLoadableOptions
   int max_steps = 100;              ///< planning steps before giving up ("max_steps")
   double max_sim_time_s = 3600.0;   ///< simulated seconds before giving up ("max_sim_time") [s]
   int max_failures_per_target = 2;  ///< failed drives towards one frontier before it is blacklisted
-  int max_plans_per_target = 6;     ///< plans for one frontier (reached or not) before it is blacklisted
+  int max_plans_per_target = 0;     ///< plans for one frontier before it is blacklisted; 0 = no limit (a frontier explored a little at every step, e.g. down a corridor, is planned many times)
   double min_progress_m = 0.05;     ///< a step that moves the robot less than this counts as a failed drive [m]
   bool write_step_images = true;    ///< steps/step_NNN.png (renderPlan) at every step
   int step_image_scale = 4;         ///< pixels per grid cell of the step images
