@@ -3,13 +3,13 @@
 #include <mrpt/config/CConfigFileBase.h>
 #include <mrpt/core/exceptions.h>
 #include <voxplore/common/config.h>
+#include <voxplore/common/distance_transform.h>
 #include <voxplore/exploration/stages.h>
 
 #include <cmath>
 #include <limits>
 #include <vector>
 
-#include "distance_transform.h"
 
 namespace voxplore::exploration
 {
@@ -22,8 +22,8 @@ std::vector<double> squaredDistanceTo(const GroundGrid& g, GroundState source)
   const int ny = static_cast<int>(g.state.getSizeY());
   std::vector<double> sq(static_cast<std::size_t>(nx) * ny);
   const auto& cells = g.state.data();
-  for (std::size_t i = 0; i < sq.size(); ++i) sq[i] = cells[i] == source ? 0.0 : detail::kEdtFar;
-  if (nx > 0 && ny > 0) detail::squaredDistanceTransform(sq, nx, ny);
+  for (std::size_t i = 0; i < sq.size(); ++i) sq[i] = cells[i] == source ? 0.0 : common::kEdtFar;
+  if (nx > 0 && ny > 0) common::squaredDistanceTransform(sq, nx, ny);
   return sq;
 }
 
@@ -37,7 +37,7 @@ Grid<float> clearanceGrid(const Grid<GroundState>& like, const std::vector<doubl
   auto it = out.begin();
   for (std::size_t i = 0; i < sq.size(); ++i, ++it)
   {
-    *it = sq[i] >= detail::kEdtFar / 2 ? std::numeric_limits<float>::infinity()
+    *it = sq[i] >= common::kEdtFar / 2 ? std::numeric_limits<float>::infinity()
                                        : static_cast<float>(std::sqrt(sq[i]) * res);
   }
   return out;

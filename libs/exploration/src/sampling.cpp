@@ -2,6 +2,7 @@
 #include <mrpt/config/CConfigFileBase.h>
 #include <mrpt/core/exceptions.h>
 #include <voxplore/common/config.h>
+#include <voxplore/common/distance_transform.h>
 #include <voxplore/exploration/stages.h>
 
 #include <algorithm>
@@ -10,7 +11,6 @@
 #include <numeric>
 #include <vector>
 
-#include "distance_transform.h"
 
 namespace voxplore::exploration
 {
@@ -156,9 +156,9 @@ std::vector<Cell> sampleSpace(const GroundGrid& g, const CollisionSpace& cs, con
       frontierWindow(f, static_cast<int>(std::ceil(p.d_max_sample_m / res)) + 1, nx, ny);
 
   // Distance to the nearest frontier cell: EDT seeded with the frontier cells.
-  std::vector<double> sq(static_cast<std::size_t>(w.width()) * w.height(), detail::kEdtFar);
+  std::vector<double> sq(static_cast<std::size_t>(w.width()) * w.height(), common::kEdtFar);
   for (const Cell& c : f.cells) sq[(c.cx - w.x0) + (c.cy - w.y0) * w.width()] = 0.0;
-  detail::squaredDistanceTransform(sq, w.width(), w.height());
+  common::squaredDistanceTransform(sq, w.width(), w.height());
 
   const double lo2 = (p.d_min_sample_m / res) * (p.d_min_sample_m / res);
   const double hi2 = (p.d_max_sample_m / res) * (p.d_max_sample_m / res);

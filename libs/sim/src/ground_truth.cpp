@@ -1,6 +1,7 @@
 /* voxplore — ground truth of a world: occupied voxels and reachable free floor. */
 
 #include <mrpt/core/exceptions.h>
+#include <voxplore/common/distance_transform.h>
 #include <voxplore/sim/ground_truth.h>
 
 #include <algorithm>
@@ -122,58 +123,16 @@ void rasterizeTriangle(const Vec3& a, const Vec3& b, const Vec3& c, double res, 
   }
 }
 
-/// Felzenszwalb & Huttenlocher (2012), "Distance transforms of sampled
-/// functions", algorithm 1: d(q) = min_p (q - p)^2 + f(p) over one line of
-/// `n` samples `stride` apart, in place. `v`, `z` are scratch of size n, n+1.
-void distanceTransform1D(double* f, int n, std::size_t stride, std::vector<double>& line,
-                         std::vector<int>& v, std::vector<double>& z)
-{
-  constexpr double kInf = std::numeric_limits<double>::infinity();
-  for (int q = 0; q < n; ++q) line[q] = f[q * stride];
-  int k = 0;
-  v[0] = 0;
-  z[0] = -kInf;
-  z[1] = kInf;
-  const auto intersection = [&](int q, int p)
-  { return ((line[q] + double(q) * q) - (line[p] + double(p) * p)) / (2.0 * (q - p)); };
-  for (int q = 1; q < n; ++q)
-  {
-    double s = intersection(q, v[k]);
-    while (s <= z[k])  // terminates at k = 0 since z[0] = -inf and s is finite
-    {
-      --k;
-      s = intersection(q, v[k]);
-    }
-    ++k;
-    v[k] = q;
-    z[k] = s;
-    z[k + 1] = kInf;
-  }
-  k = 0;
-  for (int q = 0; q < n; ++q)
-  {
-    while (z[k + 1] < q) ++k;
-    f[q * stride] = double(q - v[k]) * (q - v[k]) + line[v[k]];
-  }
-}
-
 /// Exact squared Euclidean distance (in cells^2) from every cell to the
 /// nearest cell with `seed(cell)` true; about 1e20 when there is none.
 template <typename Pred>
 std::vector<double> squaredDistanceTransform(const FloorGrid& g, Pred seed)
 {
-  constexpr double kFar = 1e20;
   std::vector<double> d(g.cells.size());
   for (int iy = 0; iy < g.ny; ++iy)
     for (int ix = 0; ix < g.nx; ++ix)
-      d[static_cast<std::size_t>(iy) * g.nx + ix] = seed(ix, iy) ? 0.0 : kFar;
-  const int n_max = std::max(g.nx, g.ny);
-  std::vector<double> line(n_max), z(n_max + 1);
-  std::vector<int> v(n_max);
-  for (int ix = 0; ix < g.nx; ++ix)  // columns
-    distanceTransform1D(d.data() + ix, g.ny, static_cast<std::size_t>(g.nx), line, v, z);
-  for (int iy = 0; iy < g.ny; ++iy)  // rows
-    distanceTransform1D(d.data() + static_cast<std::size_t>(iy) * g.nx, g.nx, 1, line, v, z);
+      d[static_cast<std::size_t>(iy) * g.nx + ix] = seed(ix, iy) ? 0.0 : common::kEdtFar;
+  if (g.nx > 0 && g.ny > 0) common::squaredDistanceTransform(d, g.nx, g.ny);
   return d;
 }
 

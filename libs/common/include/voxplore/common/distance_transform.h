@@ -1,11 +1,12 @@
 /* voxplore — exact Euclidean distance transform (Felzenszwalb & Huttenlocher,
  * "Distance Transforms of Sampled Functions", 2012), shared by the
- * collision-space and sample-space stages. Internal header. */
+ * ground truth (libs/sim) and the collision-space and sample-space stages
+ * (libs/exploration). */
 #pragma once
 
 #include <vector>
 
-namespace voxplore::exploration::detail
+namespace voxplore::common
 {
 /// @brief "No source" value of the input; outputs >= kEdtFar / 2 mean "no
 ///        source in the grid". Large but finite so that the lower envelope
@@ -21,4 +22,4 @@ constexpr double kEdtFar = 1e20;
 /// @param height rows (> 0)
 void squaredDistanceTransform(std::vector<double>& sq, int width, int height);
 
-}  // namespace voxplore::exploration::detail
+}  // namespace voxplore::common

@@ -1,9 +1,9 @@
 /* voxplore — separable squared EDT (Felzenszwalb & Huttenlocher 2012). */
-#include "distance_transform.h"
+#include <voxplore/common/distance_transform.h>
 
 #include <limits>
 
-namespace voxplore::exploration::detail
+namespace voxplore::common
 {
 namespace
 {
@@ -68,4 +68,4 @@ void squaredDistanceTransform(std::vector<double>& sq, int width, int height)
   }
 }
 
-}  // namespace voxplore::exploration::detail
+}  // namespace voxplore::common
