@@ -34,7 +34,10 @@ const char* kDescription =
     "DIR/map.simplemap, DIR/metaview.ply, DIR/run.rawlog (replayable by voxplore-replay), "
     "DIR/trajectory_gt.tum, DIR/trajectory_est.tum, DIR/stops.csv, DIR/coverage.csv, "
     "DIR/steps/step_NNN.png, DIR/params.ini and DIR/summary.json (coverage, map precision, "
-    "collisions, clearance, trajectory error against the world's ground truth).";
+    "collisions, clearance, trajectory error against the world's ground truth). [explore] "
+    "max_steps and max_sim_time_s always hold (the time limit also inside a drive). SIGINT or "
+    "SIGTERM stops at the next robot step or stop, writes every output (termination_reason "
+    "\"interrupted\") and exits with 130; a second one kills at once.";
 
 std::set<std::string> knownSections()
 {
@@ -153,6 +156,7 @@ int ExploreApp::run(int argc, const char* const* argv)
     TCLAP::SwitchArg quiet("q", "quiet", "No per-step lines and no parameter dump", cmd);
     if (!cmd.parse(argc, const_cast<const char**>(argv)))
       return exitCodeAfterFailedParse(argc, argv);
+    installInterruptHandler();
     ExploreOptions o;
     o.config = config.getValue();
     o.world = world.getValue();
@@ -169,6 +173,13 @@ int ExploreApp::run(int argc, const char* const* argv)
               << " m; coverage 2D " << s.coverage_2d << ", 3D " << s.coverage_3d
               << "; map precision " << s.map_precision << "; collisions " << s.collisions
               << "; ATE " << s.ate_rmse_m << " m -> " << o.out_dir << std::endl;
+    if (s.termination_reason == "interrupted")
+    {
+      std::cerr << "voxplore-explore: interrupted; the maps and logs of the " << s.stops
+                << " stops so far are complete in " << o.out_dir << " (exit code "
+                << kExitInterrupted << ")" << std::endl;
+      return kExitInterrupted;
+    }
     return 0;
   });
 }

@@ -116,7 +116,9 @@ void writeExploreSummary(const ExploreSummary& s, const std::string& path)
   if (!f) throw std::runtime_error("cannot write '" + path + "'");
   f << std::setprecision(9);
   f << "{\n  \"termination_reason\": \"" << s.termination_reason << "\",\n  \"steps\": " << s.steps
-    << ",\n  \"stops\": " << s.stops << ",\n  \"failed_drives\": " << s.failed_drives
+    << ",\n  \"stops\": " << s.stops << ",\n  \"flagged_stops\": " << s.flagged_stops
+    << ",\n  \"relocalized_stops\": " << s.relocalized_stops
+    << ",\n  \"skipped_cameras\": " << s.skipped_cameras << ",\n  \"failed_drives\": " << s.failed_drives
     << ",\n  \"blacklisted\": " << s.blacklisted << ",\n  \"path_length_m\": " << s.path_length_m
     << ",\n  \"coverage_2d\": " << s.coverage_2d << ",\n  \"coverage_3d\": " << s.coverage_3d
     << ",\n  \"map_precision\": " << s.map_precision
@@ -222,6 +224,12 @@ void ExploreRun::finish()
   s_.map_precision_above_floor =
       eval::mapPrecision(above_floor, T_world_map3, surface, res).precision;
   s_.collisions = sim_.robot().collisions();
+  for (const auto& r : slam_.reports())
+  {
+    s_.flagged_stops += r.flagged;
+    s_.relocalized_stops += r.relocalized;
+    for (const auto& i : r.camera_issues) s_.skipped_cameras += i.skipped;
+  }
   s_.min_clearance_m =
       explore_detail::minClearance(sim_.checker(), cfg_.sim.robot.footprint(), gt_path_);
   const fs::path dir(out_dir_);

@@ -10,12 +10,22 @@
 #include <cmath>
 #include <iostream>
 
+#include <voxplore/apps/app_common.h>
+
 #include "ExploreRun.h"
 
 namespace voxplore::apps
 {
 namespace
 {
+/// Thrown from a robot step to end the run there (mid-drive): SIGINT /
+/// SIGTERM, or the simulated time limit. Not a std::exception, so that no
+/// error handler on the way mistakes it for a failure.
+struct RunStopped
+{
+  const char* reason;
+};
+
 double secondsSince(std::chrono::steady_clock::time_point t0)
 {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
@@ -50,6 +60,11 @@ ExploreSummary ExploreRun::execute()
   {
     loop();
   }
+  catch (const RunStopped& stop)  // between two robot steps of a drive
+  {
+    robot_.stop();
+    s_.termination_reason = stop.reason;
+  }
   catch (const std::exception& e)
   {
     saveMapsAfterFailure();
@@ -66,6 +81,11 @@ void ExploreRun::loop()
   scanAndIntegrate();
   for (std::size_t step = 0;; step++)
   {
+    if (interruptRequested())
+    {
+      s_.termination_reason = "interrupted";
+      return;
+    }
     if (step >= static_cast<std::size_t>(cfg_.explore.max_steps))
     {
       s_.termination_reason = "max_steps";
@@ -116,6 +136,8 @@ void ExploreRun::scanAndIntegrate()
   pose_at_stop_ = rep.pose;
   odo_at_stop_ = robot_.odometry();
   s_.stops = slam_.numStops();
+  for (const auto& w : rep.warnings)
+    std::cerr << "voxplore-explore: warning: stop " << rep.index << ": " << w << std::endl;
   if (rep.flagged && !quiet_)
     std::cout << "  stop " << rep.index << ": ICP flagged (" << rep.icp.reason
               << "), pose from odometry" << std::endl;
@@ -194,9 +216,14 @@ void ExploreRun::onRobotStep()
   const auto& q = gt_path_.back();
   const double d = std::hypot(p.x() - q.x(), p.y() - q.y());
   const double dyaw = std::abs(mrpt::math::wrapToPi(p.phi() - q.phi()));
-  if (d < 0.005 && dyaw < mrpt::DEG2RAD(0.5)) return;
-  s_.path_length_m += d;
-  gt_path_.push_back(p);
+  if (d >= 0.005 || dyaw >= mrpt::DEG2RAD(0.5))
+  {
+    s_.path_length_m += d;
+    gt_path_.push_back(p);
+  }
+  // The limits hold inside a drive too (a drive may last minutes).
+  if (interruptRequested()) throw RunStopped{"interrupted"};
+  if (sim_.simTime() >= cfg_.explore.max_sim_time_s) throw RunStopped{"max_sim_time"};
 }
 
 void ExploreRun::reportStep(const exploration::PlanResult& plan, double plan_ms)

@@ -29,7 +29,10 @@ const char* kDescription =
     "DIR/map.bt, DIR/map.simplemap, DIR/metaview.ply, DIR/trajectory_est.tum, "
     "DIR/stops.csv (per-stop timings and ICP quality), DIR/params.ini and DIR/summary.json. "
     "With ground truth (--gt, or trajectory_gt.tum beside the rawlog) it reports the "
-    "trajectory error.";
+    "trajectory error. Faulty depth images (NaN/inf/zero/negative units, bad intrinsics or "
+    "pose, impossible ranges) are skipped with a warning naming the stop and camera. SIGINT "
+    "or SIGTERM stops after the current stop, writes every output (termination_reason "
+    "\"interrupted\") and exits with 130; a second one kills at once.";
 
 mapping::SlamIcpParams loadParams(const std::string& path)
 {
@@ -57,8 +60,12 @@ std::string classCounts(const std::map<std::string, std::size_t>& counts)
 void writeSummary(const ReplaySummary& s, const std::string& path)
 {
   std::ofstream f(path);
-  f << "{\n  \"entries\": " << s.entries << ",\n  \"stops\": " << s.stops
-    << ",\n  \"flagged\": " << s.flagged << ",\n  \"degenerate\": " << s.degenerate
+  if (!f) throw std::runtime_error("cannot write '" + path + "'");
+  f << "{\n  \"termination_reason\": \"" << s.termination_reason << "\",\n  \"entries\": "
+    << s.entries << ",\n  \"stops\": " << s.stops << ",\n  \"flagged\": " << s.flagged
+    << ",\n  \"integrated\": " << s.integrated << ",\n  \"relocalized\": " << s.relocalized << ",\n  \"skipped_cameras\": "
+    << s.skipped_cameras << ",\n  \"warnings\": " << s.warnings
+    << ",\n  \"degenerate\": " << s.degenerate
     << ",\n  \"missing_odometry\": " << s.missing_odometry
     << ",\n  \"metaview_points\": " << s.metaview_points
     << ",\n  \"mean_stop_ms\": " << s.mean_stop_ms;
@@ -84,6 +91,7 @@ int ReplayApp::run(int argc, const char* const* argv)
                                            "N", cmd);
     TCLAP::SwitchArg quiet("q", "quiet", "No progress bar", cmd);
     if (!cmd.parse(argc, const_cast<const char**>(argv))) return exitCodeAfterFailedParse(argc, argv);
+    installInterruptHandler();
     ReplayOptions o;
     o.config = config.getValue();
     o.rawlog = rawlog.getValue();
@@ -100,6 +108,13 @@ int ReplayApp::run(int argc, const char* const* argv)
       std::cout << "; ATE RMSE " << s.ate_rmse_m << " m, final yaw error "
                 << s.final_yaw_error_deg << " deg";
     std::cout << " -> " << o.out_dir << std::endl;
+    if (s.termination_reason == "interrupted")
+    {
+      std::cerr << "voxplore-replay: interrupted after " << s.stops
+                << " stops; the outputs of those stops are complete in " << o.out_dir
+                << " (exit code " << kExitInterrupted << ")" << std::endl;
+      return kExitInterrupted;
+    }
     return 0;
   });
 }
@@ -124,13 +139,21 @@ ReplaySummary ReplayApp::execute(const ReplayOptions& opts)
   std::map<std::string, std::size_t> other_classes;
   common::Progress progress("voxplore-replay", 0, !opts.quiet);
   auto visit = [&](const common::RawlogEntry& e) {
+    if (interruptRequested())  // SIGINT / SIGTERM: stop between two stops, write everything
+    {
+      s.termination_reason = "interrupted";
+      return false;
+    }
     s.entries++;
-    if (mapping::depthScansOf(*e.observations).empty())
+    // Every entry's odometry counts (action increments accumulate) even when
+    // the entry is not a stop.
+    auto odo = slam.odometryOf(e.actions.get(), *e.observations);
+    const auto depth = mapping::allDepthObservationsOf(*e.observations);
+    if (depth.empty())
     {
       for (const auto& o : *e.observations) other_classes[o->GetRuntimeClass()->className]++;
       return true;
     }
-    auto odo = slam.odometryOf(e.actions.get(), *e.observations);
     if (!odo)
     {
       s.missing_odometry++;
@@ -139,14 +162,24 @@ ReplaySummary ReplayApp::execute(const ReplayOptions& opts)
                    "motion since the previous stop\n";
       odo = slam.reports().empty() ? mrpt::poses::CPose2D() : slam.reports().back().odometry;
     }
-    const auto scans = mapping::depthScansOf(*e.observations);
-    const auto rep = slam.processStop(*e.observations, *odo, scans.front()->timestamp);
-    if (rep.cloud_points == 0)
+    const auto rep = slam.processStop(*e.observations, *odo, depth.front()->timestamp);
+    for (const auto& w : rep.warnings)
+    {
+      s.warnings++;
       std::cerr << "\nvoxplore-replay: warning: " << opts.rawlog << " entry " << e.index
-                << ": no valid depth above the floor in " << scans.size() << " images\n";
+                << ", stop " << rep.index << ": " << w << "\n";
+    }
+    if (rep.cloud_points == 0 && rep.cameras_used > 0)
+      std::cerr << "\nvoxplore-replay: warning: " << opts.rawlog << " entry " << e.index
+                << ": no valid depth above the floor in " << rep.cameras_used << " images\n";
     s.stops++;
     progress.update(s.stops, "stop " + std::to_string(rep.index) + (rep.flagged ? " FLAGGED: " + rep.icp.reason : ""));
-    return opts.max_stops == 0 || s.stops < opts.max_stops;
+    if (opts.max_stops != 0 && s.stops >= opts.max_stops)
+    {
+      s.termination_reason = "max_stops";
+      return false;
+    }
+    return true;
   };
   try
   {
@@ -165,6 +198,9 @@ ReplaySummary ReplayApp::execute(const ReplayOptions& opts)
     throw;
   }
   progress.finish();
+  if (s.stops == 0 && s.termination_reason == "interrupted")
+    throw std::runtime_error("interrupted before the first stop of " + opts.rawlog +
+                             "; nothing written");
   if (s.stops == 0)
     throw std::runtime_error(opts.rawlog + ": no CObservation3DRangeScan with a range image in " +
                              std::to_string(s.entries) + " entries (found: " +
@@ -176,6 +212,9 @@ ReplaySummary ReplayApp::execute(const ReplayOptions& opts)
   {
     total_ms += r.t_total_ms;
     s.flagged += r.flagged;
+    s.integrated += r.integrated;
+    s.relocalized += r.relocalized;
+    for (const auto& i : r.camera_issues) s.skipped_cameras += i.skipped;
     s.degenerate += r.icp.degenerate;
   }
   s.mean_stop_ms = total_ms / double(s.stops);

@@ -1,5 +1,7 @@
 #include <voxplore/apps/app_common.h>
 
+#include <signal.h>
+
 #include <filesystem>
 #include <fstream>
 #include <iostream>
@@ -8,6 +10,30 @@
 
 namespace voxplore::apps
 {
+namespace
+{
+volatile std::sig_atomic_t g_interrupted = 0;
+
+extern "C" void onInterruptSignal(int)
+{
+  g_interrupted = 1;  // the only thing a handler may do safely; SA_RESETHAND re-arms SIG_DFL
+}
+}  // namespace
+
+void installInterruptHandler()
+{
+  struct sigaction sa = {};
+  sa.sa_handler = onInterruptSignal;
+  sigemptyset(&sa.sa_mask);
+  sa.sa_flags = SA_RESETHAND;  // a second signal terminates at once
+  sigaction(SIGINT, &sa, nullptr);
+  sigaction(SIGTERM, &sa, nullptr);
+}
+
+bool interruptRequested() { return g_interrupted != 0; }
+void requestInterrupt() { g_interrupted = 1; }
+void clearInterrupt() { g_interrupted = 0; }
+
 int runGuarded(const std::string& app_name, const std::function<int()>& body)
 {
   try

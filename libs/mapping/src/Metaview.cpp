@@ -74,6 +74,12 @@ void Metaview::addPoint(
 
 std::size_t Metaview::insert(const mrpt::maps::CPointsMap& cloud_robot, const mrpt::poses::CPose2D& T_map_robot)
 {
+  // Non-finite (or astronomically far) coordinates would overflow the cell
+  // index casts (undefined behaviour): such a pose or point is never inserted.
+  constexpr double kFar = 1e6;  // [m]
+  const auto usable = [&](double v) { return std::abs(v) < kFar; };  // false for NaN too
+  if (!usable(T_map_robot.x()) || !usable(T_map_robot.y()) || !std::isfinite(T_map_robot.phi()))
+    return 0;
   const double c = std::cos(T_map_robot.phi()), s = std::sin(T_map_robot.phi());
   const auto& xs = cloud_robot.getPointsBufferRef_x();
   const auto& ys = cloud_robot.getPointsBufferRef_y();
@@ -83,6 +89,7 @@ std::size_t Metaview::insert(const mrpt::maps::CPointsMap& cloud_robot, const mr
   {
     const float x = static_cast<float>(T_map_robot.x() + c * xs[i] - s * ys[i]);
     const float y = static_cast<float>(T_map_robot.y() + s * xs[i] + c * ys[i]);
+    if (!usable(x) || !usable(y) || !usable(zs[i])) continue;
     addPoint(points_, grid_, false, x, y, zs[i]);
     addPoint(points2d_, grid2d_, true, x, y, 0.0f);
   }

@@ -52,14 +52,14 @@ InsertStats rayCounts(const octomap::OcTree& tree, const PixelRays& rays,
                       const octomap::Pointcloud& hits, double max_range_m, bool clearing)
 {
   InsertStats st;
-  st.invalid = rays.invalid_dirs_world.size();
-  st.rays = rays.endpoints_world.size() + (clearing ? st.invalid : 0);
+  st.invalid = rays.invalid_dirs_world.size() + rays.unusable;
+  st.rays = rays.endpoints_world.size() + (clearing ? rays.invalid_dirs_world.size() : 0);
   const octomap::point3d origin = toPoint3d(rays.origin_world);
   octomap::OcTreeKey key;
   for (const auto& p : hits)
   {
     octomap::point3d end;
-    st.hits += detail::clipRay(origin, p, max_range_m, end) && tree.coordToKeyChecked(p, key);
+    st.hits += detail::clipRay(origin, p, max_range_m, end) && detail::coordToKeySafe(tree, p, key);
   }
   return st;
 }
@@ -168,19 +168,19 @@ InsertStats OctoMapLayer::insertScan(const mrpt::obs::CObservation3DRangeScan& o
   const double clear_range = clearingRange(params_);
   detail::RayKeyCollector collector(*tree_);
   InsertStats st;
-  st.invalid = rays.invalid_dirs_world.size();
+  st.invalid = rays.invalid_dirs_world.size() + rays.unusable;
   st.rays = rays.endpoints_world.size();
   for (const auto& p_world : rays.endpoints_world)
   {
     octomap::point3d end;
     const bool hit = detail::clipRay(origin, toPoint3d(p_world), params_.max_range_m, end);
     octomap::OcTreeKey key;
-    st.hits += hit && tree_->coordToKeyChecked(end, key);
+    st.hits += hit && detail::coordToKeySafe(*tree_, end, key);
     collector.addRay(origin, end, hit);
   }
   if (clear_range > 0)
   {
-    st.rays += st.invalid;
+    st.rays += rays.invalid_dirs_world.size();
     for (const auto& far : clearingTargets(rays, clear_range))
     {
       octomap::point3d end;
@@ -202,6 +202,8 @@ InsertStats OctoMapLayer::insertScanStock(const mrpt::obs::CObservation3DRangeSc
   const double clear_range = clearingRange(params_);
   const octomap::Pointcloud cloud = toPointcloud(rays.endpoints_world);
   InsertStats st = rayCounts(*tree_, rays, cloud, params_.max_range_m, clear_range > 0);
+  octomap::OcTreeKey origin_key;  // OctoMap's own key computation is undefined outside the tree
+  if (!detail::coordToKeySafe(*tree_, origin, origin_key)) return st;
 
   // The body of OcTree::insertPointCloud(cloud, origin, max_range_m,
   // lazy_eval = false, discretize = false), inlined so that the rays of
@@ -240,8 +242,8 @@ void OctoMapLayer::setStartBoxFree(const mrpt::poses::CPose3D& T_world_robot)
     hi = hi.cwiseMax(Eigen::Vector3d(w.x, w.y, w.z));
   }
   octomap::OcTreeKey kmin, kmax;
-  if (!tree_->coordToKeyChecked(toPoint3d(lo), kmin) ||
-      !tree_->coordToKeyChecked(toPoint3d(hi), kmax))
+  if (!detail::coordToKeySafe(*tree_, toPoint3d(lo), kmin) ||
+      !detail::coordToKeySafe(*tree_, toPoint3d(hi), kmax))
     THROW_EXCEPTION("OctoMapLayer::setStartBoxFree: start box outside the octree's range");
   const float free_log_odds = tree_->getClampingThresMinLog();
   constexpr double kEps = 1e-9;
@@ -262,7 +264,9 @@ void OctoMapLayer::setStartBoxFree(const mrpt::poses::CPose3D& T_world_robot)
 
 VoxelState OctoMapLayer::stateAt(const Eigen::Vector3d& p) const
 {
-  const octomap::OcTreeNode* node = tree_->search(p.x(), p.y(), p.z());
+  octomap::OcTreeKey key;
+  if (!detail::coordToKeySafe(*tree_, toPoint3d(p), key)) return VoxelState::Unknown;
+  const octomap::OcTreeNode* node = tree_->search(key);
   if (node == nullptr) return VoxelState::Unknown;
   const double prob = node->getOccupancy();
   if (prob < OctoMapParams::probOf(params_.th_free)) return VoxelState::Free;
@@ -317,19 +321,37 @@ PixelRays unprojectRays(const mrpt::obs::CObservation3DRangeScan& obs,
 
   PixelRays rays;
   rays.origin_world = t;
+  // Garbage (NaN / inf pose or intrinsics, rangeUnits <= 0) yields unusable
+  // pixels, never a ray: non-finite coordinates must not reach OctoMap.
+  if (!t.allFinite() || !R.allFinite())
+  {
+    rays.unusable = static_cast<std::size_t>(W) * H;
+    return rays;
+  }
   rays.endpoints_world.reserve(static_cast<std::size_t>(W) * H);
   for (int r = 0, idx = 0; r < H; r++)
     for (int c = 0; c < W; c++, idx++)
     {
       const float D = obs.rangeImage(r, c) * obs.rangeUnits;  // as range2XYZ_LUT
       const Eigen::Vector3d k(lut.Kxs[idx], lut.Kys[idx], lut.Kzs[idx]);
+      if (!k.allFinite() || k.squaredNorm() == 0.0 || !std::isfinite(D) || D < 0.0f)
+      {
+        rays.unusable++;
+        continue;
+      }
       if (D == 0.0f)
       {
         rays.invalid_dirs_world.push_back(R * k.normalized());
         continue;
       }
       const Eigen::Vector3d local(lut.Kxs[idx] * D, lut.Kys[idx] * D, lut.Kzs[idx] * D);
-      rays.endpoints_world.push_back(R * local + t);
+      const Eigen::Vector3d p = R * local + t;
+      if (!p.allFinite())
+      {
+        rays.unusable++;
+        continue;
+      }
+      rays.endpoints_world.push_back(p);
     }
   return rays;
 }

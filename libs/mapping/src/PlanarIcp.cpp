@@ -7,6 +7,8 @@
 #include "point_to_line.h"
 
 #include <Eigen/Eigenvalues>
+#include <algorithm>
+#include <vector>
 #include <cmath>
 #include <sstream>
 
@@ -33,6 +35,12 @@ void IcpParams::loadFromConfigFile(const mrpt::config::CConfigFileBase& c, const
   MRPT_LOAD_CONFIG_VAR(degeneracy_ratio, double, c, s);
   MRPT_LOAD_CONFIG_VAR(normal_radius_m, double, c, s);
   MRPT_LOAD_CONFIG_VAR(min_points, int, c, s);
+  MRPT_LOAD_CONFIG_VAR(max_unconverged_step_m, double, c, s);
+  MRPT_LOAD_CONFIG_VAR(relocalize, bool, c, s);
+  MRPT_LOAD_CONFIG_VAR(relocalize_radius_m, double, c, s);
+  MRPT_LOAD_CONFIG_VAR_DEGREES(relocalize_yaw, c, s);
+  MRPT_LOAD_CONFIG_VAR(relocalize_min_goodness, double, c, s);
+  MRPT_LOAD_CONFIG_VAR(relocalize_margin, double, c, s);
   using common::requireValid;
   requireValid(d_max_m > 0, c, s, "d_max_m", "must be positive");
   requireValid(d_max_final_m > 0 && d_max_final_m <= d_max_m, c, s, "d_max_final_m",
@@ -51,6 +59,15 @@ void IcpParams::loadFromConfigFile(const mrpt::config::CConfigFileBase& c, const
                "must be in [0, 1)");
   requireValid(normal_radius_m > 0, c, s, "normal_radius_m", "must be positive");
   requireValid(min_points >= 3, c, s, "min_points", "must be >= 3");
+  requireValid(max_unconverged_step_m >= 0, c, s, "max_unconverged_step_m", "must be >= 0");
+  requireValid(relocalize_radius_m >= 0 && relocalize_radius_m <= 10, c, s, "relocalize_radius_m",
+               "must be in [0, 10] m");
+  requireValid(relocalize_yaw >= 0 && relocalize_yaw <= M_PI, c, s, "relocalize_yaw",
+               "must be in [0, 180] deg");
+  requireValid(relocalize_min_goodness > 0 && relocalize_min_goodness <= 1, c, s,
+               "relocalize_min_goodness", "must be in (0, 1]");
+  requireValid(relocalize_margin >= 0 && relocalize_margin < 1, c, s, "relocalize_margin",
+               "must be in [0, 1)");
 }
 
 void IcpParams::saveToConfigFile(mrpt::config::CConfigFileBase& c, const std::string& s) const
@@ -72,6 +89,12 @@ void IcpParams::saveToConfigFile(mrpt::config::CConfigFileBase& c, const std::st
   MRPT_SAVE_CONFIG_VAR(degeneracy_ratio, c, s);
   MRPT_SAVE_CONFIG_VAR(normal_radius_m, c, s);
   MRPT_SAVE_CONFIG_VAR(min_points, c, s);
+  MRPT_SAVE_CONFIG_VAR(max_unconverged_step_m, c, s);
+  MRPT_SAVE_CONFIG_VAR(relocalize, c, s);
+  MRPT_SAVE_CONFIG_VAR(relocalize_radius_m, c, s);
+  MRPT_SAVE_CONFIG_VAR_DEGREES(relocalize_yaw, c, s);
+  MRPT_SAVE_CONFIG_VAR(relocalize_min_goodness, c, s);
+  MRPT_SAVE_CONFIG_VAR(relocalize_margin, c, s);
 }
 
 
@@ -120,6 +143,8 @@ IcpResult alignPlanar(
   const auto fine = detail::refinePointToLine(reference_map, cloud_robot, coarse, radius, p);
   r.icp_pose = fine.pose;
   r.iterations += fine.iterations;
+  r.converged = fine.converged;
+  r.last_step_m = std::max(fine.last_step_m, fine.last_step_rad * 1.0 /* m */);
   r.goodness = fine.used ? double(fine.pairs) / double(fine.used) : 0.0;
   r.rms_m = fine.rms_m;
   r.pairs = fine.pairs;
@@ -139,7 +164,12 @@ IcpResult alignPlanar(
   const double dxy = std::hypot(sol.x() - predicted.x(), sol.y() - predicted.y());
   const double dyaw = std::abs(mrpt::math::wrapToPi(sol.phi() - predicted.phi()));
   std::ostringstream why;
-  if (r.goodness < p.min_goodness)
+  if (!std::isfinite(sol.x()) || !std::isfinite(sol.y()) || !std::isfinite(sol.phi()))
+    why << "non-finite solution";
+  else if (!r.converged && r.last_step_m > p.max_unconverged_step_m)
+    why << "did not converge in " << r.iterations << " iterations (last step " << r.last_step_m
+        << " m > max_unconverged_step_m = " << p.max_unconverged_step_m << " m)";
+  else if (r.goodness < p.min_goodness)
     why << "goodness " << r.goodness << " < " << p.min_goodness;
   else if (dxy > p.max_correction_xy_m)
     why << "correction " << dxy << " m > " << p.max_correction_xy_m << " m";
@@ -153,6 +183,126 @@ IcpResult alignPlanar(
     r.pose = sol;
     if (r.degenerate) r.reason = "degenerate: odometry kept along one direction";
   }
+  return r;
+}
+
+namespace
+{
+struct Seed
+{
+  CPose2D pose;
+  double score = 0;
+};
+
+bool distinct(const CPose2D& a, const CPose2D& b)
+{
+  return std::hypot(a.x() - b.x(), a.y() - b.y()) > 0.2 ||
+         std::abs(mrpt::math::wrapToPi(a.phi() - b.phi())) > mrpt::DEG2RAD(5.0);
+}
+
+/// Seeds on the search grid, best first, scored by the share of `pts`
+/// (robot frame) within 0.1 m of the reference.
+std::vector<Seed> scoreSeeds(const mrpt::maps::CPointsMap& ref,
+                             const std::vector<Eigen::Vector2f>& pts, const CPose2D& predicted,
+                             const IcpParams& p)
+{
+  constexpr double kStepXy = 0.25, kNear2 = 0.1 * 0.1;
+  const double step_yaw = mrpt::DEG2RAD(5.0);
+  const int nxy = static_cast<int>(std::floor(p.relocalize_radius_m / kStepXy));
+  const int nyaw = static_cast<int>(std::floor(p.relocalize_yaw / step_yaw));
+  std::vector<Seed> seeds;
+  for (int k = -nyaw; k <= nyaw; k++)
+  {
+    const double yaw = predicted.phi() + k * step_yaw;
+    const double c = std::cos(yaw), s = std::sin(yaw);
+    for (int i = -nxy; i <= nxy; i++)
+      for (int j = -nxy; j <= nxy; j++)
+      {
+        const double dx = i * kStepXy, dy = j * kStepXy;
+        if (std::hypot(dx, dy) > p.relocalize_radius_m + 1e-9) continue;
+        const double x = predicted.x() + dx, y = predicted.y() + dy;
+        std::size_t near = 0;
+        for (const auto& q : pts)
+          near += ref.kdTreeClosestPoint2DsqrError(static_cast<float>(x + c * q.x() - s * q.y()),
+                                                   static_cast<float>(y + s * q.x() + c * q.y())) <
+                  kNear2;
+        seeds.push_back({CPose2D(x, y, yaw), double(near) / double(pts.size())});
+      }
+  }
+  std::sort(seeds.begin(), seeds.end(), [](const Seed& a, const Seed& b) { return a.score > b.score; });
+  return seeds;
+}
+}  // namespace
+
+IcpResult relocalizePlanar(
+    const mrpt::maps::CPointsMap& reference_map, const mrpt::maps::CPointsMap& cloud_robot,
+    const CPose2D& predicted, const IcpParams& p)
+{
+  IcpResult none;
+  none.pose = none.icp_pose = predicted;
+  if (cloud_robot.size() < static_cast<std::size_t>(p.min_points) ||
+      reference_map.size() < static_cast<std::size_t>(p.min_points))
+  {
+    none.reason = "relocalisation: too few points";
+    return none;
+  }
+  // A subsample of the cloud for scoring (about 300 points).
+  std::vector<Eigen::Vector2f> pts;
+  const std::size_t stride = std::max<std::size_t>(1, cloud_robot.size() / 300);
+  for (std::size_t i = 0; i < cloud_robot.size(); i += stride)
+  {
+    float x, y, z;
+    cloud_robot.getPoint(i, x, y, z);
+    pts.emplace_back(x, y);
+  }
+  const auto seeds = scoreSeeds(reference_map, pts, predicted, p);
+  // Refine the best few distinct seeds with the full two-stage ICP.
+  IcpParams wide = p;
+  wide.max_correction_xy_m = p.relocalize_radius_m + p.d_max_m;
+  wide.max_correction_yaw = p.relocalize_yaw + mrpt::DEG2RAD(10.0);
+  wide.min_goodness = p.relocalize_min_goodness;
+  std::vector<IcpResult> refined;
+  std::vector<CPose2D> tried;
+  for (const auto& seed : seeds)
+  {
+    if (tried.size() >= 6) break;
+    if (std::any_of(tried.begin(), tried.end(), [&](const CPose2D& t) { return !distinct(t, seed.pose); }))
+      continue;
+    tried.push_back(seed.pose);
+    auto r = alignPlanar(reference_map, cloud_robot, seed.pose, wide);
+    r.icp_pose = r.pose = r.accepted ? r.pose : r.icp_pose;
+    refined.push_back(r);
+  }
+  std::sort(refined.begin(), refined.end(),
+            [](const IcpResult& a, const IcpResult& b) { return a.goodness > b.goodness; });
+  std::ostringstream why;
+  if (refined.empty() || !refined[0].accepted)
+    why << "relocalisation failed: best goodness " << (refined.empty() ? 0.0 : refined[0].goodness)
+        << " < " << p.relocalize_min_goodness;
+  else if (refined[0].degenerate)
+    why << "relocalisation failed: degenerate scene";
+  else
+    for (std::size_t i = 1; i < refined.size(); i++)
+      if (distinct(refined[i].pose, refined[0].pose) &&
+          refined[i].goodness > refined[0].goodness - p.relocalize_margin)
+      {
+        why << "relocalisation ambiguous: goodness " << refined[0].goodness << " vs "
+            << refined[i].goodness << " at a distinct pose";
+        break;
+      }
+  if (!why.str().empty())
+  {
+    none.reason = why.str();
+    if (!refined.empty()) none.goodness = refined[0].goodness;
+    return none;
+  }
+  IcpResult r = refined[0];
+  const double dxy = std::hypot(r.pose.x() - predicted.x(), r.pose.y() - predicted.y());
+  const double dyaw = mrpt::math::wrapToPi(r.pose.phi() - predicted.phi());
+  std::ostringstream ok;
+  ok << "relocalized: correction " << dxy << " m, " << mrpt::RAD2DEG(dyaw) << " deg, goodness "
+     << r.goodness;
+  r.reason = ok.str();
   return r;
 }
 

@@ -5,6 +5,7 @@
 #include <voxplore/common/config.h>
 #include <voxplore/mapping/SlamIcp.h>
 
+#include <cmath>
 #include <stdexcept>
 
 namespace voxplore::mapping
@@ -51,18 +52,54 @@ std::optional<CPose2D> SlamIcp::odometryOf(
   return std::nullopt;
 }
 
+namespace
+{
+bool finitePose(const CPose2D& p)
+{
+  return std::isfinite(p.x()) && std::isfinite(p.y()) && std::isfinite(p.phi());
+}
+}  // namespace
+
+void SlamIcp::checkCameras(const mrpt::obs::CSensoryFrame& sf, StopReport& rep, UsableScans& usable)
+{
+  usable = usableDepthScans(sf, params_.cloud);
+  rep.cameras_used = usable.scans.size();
+  std::set<std::string> present;
+  for (const auto& o : allDepthObservationsOf(sf)) present.insert(o->sensorLabel);
+  for (const auto& label : known_cameras_)
+    if (present.count(label) == 0)
+      usable.issues.push_back({label, "missing from the sensory frame", true});
+  known_cameras_.insert(present.begin(), present.end());
+  rep.camera_issues = usable.issues;
+  for (const auto& i : usable.issues)
+    rep.warnings.push_back("camera " + i.label + (i.skipped ? " skipped: " : ": ") + i.reason);
+  if (usable.observations == 0)
+    rep.warnings.push_back("no depth camera (CObservation3DRangeScan) in the sensory frame");
+  else if (usable.scans.empty())
+    rep.warnings.push_back("none of the " + std::to_string(usable.observations) +
+                           " depth images is usable");
+}
+
 StopReport SlamIcp::processStop(
-    const mrpt::obs::CSensoryFrame& sf, const CPose2D& odometry, mrpt::Clock::time_point timestamp)
+    const mrpt::obs::CSensoryFrame& sf, const CPose2D& odometry_in, mrpt::Clock::time_point timestamp)
 {
   mrpt::system::CTicTac total, tic;
   StopReport rep;
   rep.index = reports_.size();
   rep.timestamp = timestamp;
+  UsableScans usable;
+  checkCameras(sf, rep, usable);
+  const auto& scans = usable.scans;
+
+  // A non-finite odometry reading would make every pose NaN: no motion instead.
+  CPose2D odometry = odometry_in;
+  if (!finitePose(odometry))
+  {
+    rep.warnings.push_back("odometry reading not finite (" + odometry.asString() +
+                           "): assuming no motion since the previous stop");
+    odometry = last_odometry_ ? *last_odometry_ : CPose2D();
+  }
   rep.odometry = odometry;
-  const auto scans = depthScansOf(sf);
-  if (scans.empty())
-    throw std::runtime_error("stop " + std::to_string(rep.index) +
-                             ": the sensory frame holds no CObservation3DRangeScan with a range image");
 
   // 1. Prediction, thesis 4.4.1: the first pose is the origin (eq. 4.1, 4.2 after).
   rep.predicted = last_odometry_ ? predictPose(pose_, *last_odometry_, odometry) : CPose2D();
@@ -75,37 +112,61 @@ StopReport SlamIcp::processStop(
   rep.cloud_points = cloud.points.size();
   rep.invalid_pixels = cloud.invalid_pixels;
 
-  // 3. Planar ICP against the metaview M (none for the first stop).
+  // 3. Planar ICP against the metaview M. The first stop defines the map
+  //    frame; a later stop without M (nothing mapped yet) or without a
+  //    usable depth image keeps the prediction.
   rep.pose = rep.predicted;
-  if (!metaview_.empty())
+  rep.icp.pose = rep.pose;
+  rep.icp.icp_pose = rep.pose;
+  const bool first = reports_.empty();
+  if (scans.empty())
+    rep.icp.reason = "no usable depth image";
+  else if (first)
+    rep.icp.reason = "first stop";
+  else if (metaview_.empty())
+    rep.icp.reason = "metaview empty: pose from odometry, this stop starts the map";
+  else
   {
     tic.Tic();
     rep.icp = alignPlanar(metaview_.footprint(), cloud.points, rep.predicted, params_.icp);
+    // ICP ran and was rejected: the prediction may be wrong (an odometry
+    // jump). Search round it; accepted only when unambiguous.
+    if (!rep.icp.accepted && params_.icp.enabled && params_.icp.relocalize &&
+        rep.icp.iterations > 0)
+    {
+      const std::string first_reason = rep.icp.reason;
+      rep.icp = relocalizePlanar(metaview_.footprint(), cloud.points, rep.predicted, params_.icp);
+      rep.icp.reason = first_reason + "; " + rep.icp.reason;
+      rep.relocalized = rep.icp.accepted;
+    }
     rep.t_icp_ms = 1e3 * tic.Tac();
     rep.pose = rep.icp.pose;
-    // Flagged: ICP ran and was rejected (or could not run). With ICP
-    // disabled on purpose, odometry is the method and nothing is flagged.
-    rep.flagged = params_.icp.enabled && !rep.icp.accepted;
   }
-  else
+  // Flagged: ICP should have registered the stop and did not. With ICP
+  // disabled on purpose, odometry is the method and nothing is flagged.
+  rep.flagged = params_.icp.enabled && !first && !rep.icp.accepted;
+  if (!finitePose(rep.pose))  // cannot happen with finite inputs; never let it into the maps
   {
-    rep.icp.reason = "first stop";
-    rep.icp.pose = rep.pose;
+    rep.icp.reason = "non-finite pose " + rep.pose.asString() + ": prediction kept";
+    rep.pose = rep.predicted;
+    rep.flagged = true;
   }
   pose_ = rep.pose;
 
-  // 4. Metaview with point reduction. A rejected stop does not enter M: its
-  //    pose is only as good as odometry.
+  // 4. Metaview with point reduction. A flagged stop does not enter M (nor
+  //    V): its pose is only as good as odometry. While M is empty there is
+  //    nothing to corrupt and the stop starts the map.
+  rep.integrated = !scans.empty() && (!rep.flagged || metaview_.empty());
   tic.Tic();
-  if (!rep.flagged) rep.metaview_added = metaview_.insert(cloud.points, rep.pose);
+  if (rep.integrated) rep.metaview_added = metaview_.insert(cloud.points, rep.pose);
   rep.metaview_size = metaview_.size();
   rep.t_metaview_ms = 1e3 * tic.Tac();
 
   // 5. OctoMap V, per camera, from each camera's origin.
   tic.Tic();
   const CPose3D T_map_robot(rep.pose);
-  if (reports_.empty()) octomap_.setStartBoxFree(T_map_robot);
-  if (!rep.flagged)
+  if (first) octomap_.setStartBoxFree(T_map_robot);
+  if (rep.integrated)
     for (const auto& s : scans)
     {
       const auto st = octomap_.insertScan(*s, T_map_robot);
@@ -117,8 +178,16 @@ StopReport SlamIcp::processStop(
     }
   rep.t_octomap_ms = 1e3 * tic.Tac();
 
-  // Keyframe for the .simplemap: every stop, with its sensory frame.
-  simplemap_.insert(mrpt::poses::CPose3DPDFGaussian(T_map_robot), sf);
+  // Keyframe for the .simplemap: the stops that entered the map, with the
+  // depth images used (cleaned copies) and the other observations.
+  if (rep.integrated)
+  {
+    mrpt::obs::CSensoryFrame kf;
+    for (const auto& o : sf)
+      if (!std::dynamic_pointer_cast<mrpt::obs::CObservation3DRangeScan>(o)) kf.insert(o);
+    for (const auto& s : scans) kf.insert(s);
+    simplemap_.insert(mrpt::poses::CPose3DPDFGaussian(T_map_robot), kf);
+  }
   rep.t_total_ms = 1e3 * total.Tac();
   reports_.push_back(rep);
   return rep;

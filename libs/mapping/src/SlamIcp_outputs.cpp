@@ -15,22 +15,36 @@ void writeStopsCsv(const std::vector<StopReport>& reports, const std::string& pa
   std::ofstream f(path);
   if (!f) throw std::runtime_error("cannot write '" + path + "'");
   f << "stop,timestamp,odo_x,odo_y,odo_yaw_deg,pred_x,pred_y,pred_yaw_deg,x,y,yaw_deg,"
-       "icp_accepted,flagged,icp_goodness,icp_iterations,icp_degenerate,icp_info_ratio,"
-       "icp_reason,cloud_points,invalid_pixels,metaview_added,metaview_size,octomap_rays,"
+       "icp_accepted,flagged,integrated,relocalized,icp_goodness,icp_iterations,icp_converged,icp_last_step_m,"
+       "icp_degenerate,icp_info_ratio,icp_reason,cameras_used,cameras_skipped,camera_issues,cloud_points,invalid_pixels,metaview_added,metaview_size,octomap_rays,"
        "t_cloud_ms,t_icp_ms,t_metaview_ms,t_octomap_ms,t_total_ms\n";
   f << std::fixed;
   for (const auto& r : reports)
   {
-    std::string reason = r.icp.reason;
-    for (auto& ch : reason)
-      if (ch == ',' || ch == '"') ch = ';';
+    const auto clean = [](std::string t)
+    {
+      for (auto& ch : t)
+        if (ch == ',' || ch == '"' || ch == '\n') ch = ';';
+      return t;
+    };
+    const std::string reason = clean(r.icp.reason);
+    std::string issues;
+    std::size_t skipped = 0;
+    for (const auto& i : r.camera_issues)
+    {
+      skipped += i.skipped;
+      issues += (issues.empty() ? "" : " | ") + i.label + ": " + i.reason;
+    }
+    issues = clean(issues);
     f << r.index << "," << std::setprecision(6) << mrpt::Clock::toDouble(r.timestamp) << ","
       << std::setprecision(5) << r.odometry.x() << "," << r.odometry.y() << ","
       << mrpt::RAD2DEG(r.odometry.phi()) << "," << r.predicted.x() << "," << r.predicted.y()
       << "," << mrpt::RAD2DEG(r.predicted.phi()) << "," << r.pose.x() << "," << r.pose.y() << ","
       << mrpt::RAD2DEG(r.pose.phi()) << "," << r.icp.accepted << "," << r.flagged << ","
-      << std::setprecision(4) << r.icp.goodness << "," << r.icp.iterations << ","
-      << r.icp.degenerate << "," << r.icp.info_ratio << "," << reason << "," << r.cloud_points
+      << r.integrated << "," << r.relocalized << "," << std::setprecision(4) << r.icp.goodness << "," << r.icp.iterations
+      << "," << r.icp.converged << "," << std::setprecision(6) << r.icp.last_step_m << ","
+      << r.icp.degenerate << "," << std::setprecision(4) << r.icp.info_ratio << "," << reason
+      << "," << r.cameras_used << "," << skipped << "," << issues << "," << r.cloud_points
       << "," << r.invalid_pixels << "," << r.metaview_added << "," << r.metaview_size << ","
       << r.octomap.rays << "," << std::setprecision(3) << r.t_cloud_ms << "," << r.t_icp_ms
       << "," << r.t_metaview_ms << "," << r.t_octomap_ms << "," << r.t_total_ms << "\n";

@@ -131,6 +131,15 @@ std::uint64_t mortonOf(const octomap::OcTreeKey& key)
   return spread(key[0]) | (spread(key[1]) << 1) | (spread(key[2]) << 2);
 }
 
+bool coordToKeySafe(const octomap::OcTree& tree, const octomap::point3d& p, octomap::OcTreeKey& key)
+{
+  // The tree spans +-2^(depth-1) voxels around the origin.
+  const double half_extent = tree.getResolution() * static_cast<double>(1U << (kTreeDepth - 1));
+  for (unsigned i = 0; i < 3; i++)
+    if (!(std::abs(static_cast<double>(p(i))) < half_extent)) return false;  // NaN fails too
+  return tree.coordToKeyChecked(p, key);
+}
+
 bool clipRay(const octomap::point3d& origin, const octomap::point3d& p, double max_range_m,
              octomap::point3d& end)
 {
@@ -177,13 +186,13 @@ std::vector<std::uint64_t> RayKeyCollector::release()
 bool RayKeyCollector::addRay(const octomap::point3d& origin, const octomap::point3d& end, bool hit)
 {
   octomap::OcTreeKey key_origin, key_end;
-  if (!tree_.coordToKeyChecked(end, key_end)) return false;
+  if (!coordToKeySafe(tree_, end, key_end)) return false;
   octomap::point3d direction = end - origin;
   const float length = static_cast<float>(direction.norm());
   reserveForRay(length);
   const std::uint64_t code_end = mortonOf(key_end);
   if (hit) push((code_end << 1) | 1U);
-  if (!tree_.coordToKeyChecked(origin, key_origin)) return false;
+  if (!coordToKeySafe(tree_, origin, key_origin)) return false;
   if (key_origin == key_end) return true;
 
   // Initialisation exactly as OcTreeBaseImpl::computeRayKeys (Amanatides & Woo),

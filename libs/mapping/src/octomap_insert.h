@@ -28,6 +28,12 @@ class LayerTree : public octomap::OcTree
   octomap::OcTreeNode* rootForUpdate(bool& created);
 };
 
+/// @brief OcTree::coordToKeyChecked without its undefined behaviour: OctoMap
+///        casts floor(coordinate / resolution) to int before its range check,
+///        which is undefined for NaN, inf and values beyond int's range.
+/// @return false when a coordinate is not finite or outside the tree
+bool coordToKeySafe(const octomap::OcTree& tree, const octomap::point3d& p, octomap::OcTreeKey& key);
+
 /// @brief Where a ray stops: at the measured point when it is within
 ///        `max_range_m` of the origin (hit), else truncated there (no hit).
 ///        The same arithmetic as OccupancyOcTreeBase::computeUpdate.

@@ -142,10 +142,16 @@ RefineResult refinePointToLine(
     }
     res.pose = mrpt::poses::CPose2D(res.pose.x() + delta.x(), res.pose.y() + delta.y(),
                                     res.pose.phi() + delta.z());
+    res.last_step_m = delta.head<2>().norm();
+    res.last_step_rad = std::abs(delta.z());
     const bool converged = delta.head<2>().norm() < 2e-4 && std::abs(delta.z()) < 5e-5;
     if (converged)
     {
-      if (radius <= p.d_max_final_m) break;
+      if (radius <= p.d_max_final_m)
+      {
+        res.converged = true;
+        break;
+      }
       radius = std::max(p.d_max_final_m, radius * p.alfa);
     }
   }

@@ -41,6 +41,9 @@ struct RefineResult
   std::size_t used = 0;    ///< cloud points tried
   std::size_t pairs = 0;   ///< of them paired within the final radius
   unsigned iterations = 0;
+  bool converged = false;  ///< the last update was below the convergence step at the final radius
+  double last_step_m = 0;  ///< translation of the last update [m]
+  double last_step_rad = 0;  ///< rotation of the last update [rad]
   double rms_m = 0;
   bool degenerate = false;
   Eigen::Vector2d degenerate_dir{0, 0};

@@ -3,6 +3,8 @@
 #include <voxplore/mapping/robot_cloud.h>
 
 #include <cmath>
+#include <limits>
+#include <sstream>
 
 namespace voxplore::mapping
 {
@@ -11,8 +13,11 @@ void CloudParams::loadFromConfigFile(const mrpt::config::CConfigFileBase& c, con
   MRPT_LOAD_CONFIG_VAR(z_min_m, double, c, s);
   MRPT_LOAD_CONFIG_VAR(z_max_m, double, c, s);
   MRPT_LOAD_CONFIG_VAR(max_range_m, double, c, s);
+  MRPT_LOAD_CONFIG_VAR(max_impossible_share, double, c, s);
   common::requireValid(z_min_m < z_max_m, c, s, "z_min_m", "need z_min_m < z_max_m");
   common::requireValid(max_range_m > 0, c, s, "max_range_m", "must be positive");
+  common::requireValid(max_impossible_share >= 0 && max_impossible_share <= 1, c, s,
+                       "max_impossible_share", "must be in [0, 1]");
 }
 
 void CloudParams::saveToConfigFile(mrpt::config::CConfigFileBase& c, const std::string& s) const
@@ -20,6 +25,7 @@ void CloudParams::saveToConfigFile(mrpt::config::CConfigFileBase& c, const std::
   MRPT_SAVE_CONFIG_VAR(z_min_m, c, s);
   MRPT_SAVE_CONFIG_VAR(z_max_m, c, s);
   MRPT_SAVE_CONFIG_VAR(max_range_m, c, s);
+  MRPT_SAVE_CONFIG_VAR(max_impossible_share, c, s);
 }
 
 std::vector<mrpt::obs::CObservation3DRangeScan::Ptr> depthScansOf(const mrpt::obs::CSensoryFrame& sf)
@@ -28,6 +34,125 @@ std::vector<mrpt::obs::CObservation3DRangeScan::Ptr> depthScansOf(const mrpt::ob
   for (const auto& o : sf)
     if (auto s = std::dynamic_pointer_cast<mrpt::obs::CObservation3DRangeScan>(o))
       if (s->hasRangeImage) out.push_back(s);
+  return out;
+}
+
+std::vector<mrpt::obs::CObservation3DRangeScan::Ptr> allDepthObservationsOf(
+    const mrpt::obs::CSensoryFrame& sf)
+{
+  std::vector<mrpt::obs::CObservation3DRangeScan::Ptr> out;
+  for (const auto& o : sf)
+    if (auto s = std::dynamic_pointer_cast<mrpt::obs::CObservation3DRangeScan>(o)) out.push_back(s);
+  return out;
+}
+
+namespace
+{
+bool finite(double v) { return std::isfinite(v); }
+
+/// Range (or depth) beyond which a return is impossible for this sensor; +inf
+/// when the observation does not say (maxRange not finite or not positive).
+double impossibleAbove(const mrpt::obs::CObservation3DRangeScan& obs)
+{
+  if (!(std::isfinite(obs.maxRange) && obs.maxRange > 0))
+    return std::numeric_limits<double>::infinity();
+  // 2 % and one quantisation step of tolerance for range noise and rounding.
+  return 1.02 * obs.maxRange + obs.rangeUnits;
+}
+
+constexpr uint16_t kSaturated = 0xFFFF;
+
+/// Structure of the observation (no pixel read). Empty when fine.
+std::string structuralFault(const mrpt::obs::CObservation3DRangeScan& obs)
+{
+  std::ostringstream why;
+  const auto& cam = obs.cameraParams;
+  const auto& sp = obs.sensorPose;
+  if (!obs.hasRangeImage)
+    why << "no range image (hasRangeImage = false)";
+  else if (obs.rangeImage.rows() <= 0 || obs.rangeImage.cols() <= 0)
+    why << "empty range image";
+  else if (!(finite(obs.rangeUnits) && obs.rangeUnits > 0))
+    why << "rangeUnits = " << obs.rangeUnits << " (must be finite and > 0)";
+  else if (!(finite(cam.fx()) && finite(cam.fy()) && cam.fx() > 0 && cam.fy() > 0 &&
+             finite(cam.cx()) && finite(cam.cy())))
+    why << "intrinsics fx = " << cam.fx() << ", fy = " << cam.fy() << ", cx = " << cam.cx()
+        << ", cy = " << cam.cy() << " (need finite values, fx, fy > 0)";
+  else if (cam.ncols != static_cast<uint32_t>(obs.rangeImage.cols()) ||
+           cam.nrows != static_cast<uint32_t>(obs.rangeImage.rows()))
+    why << "range image " << obs.rangeImage.cols() << " x " << obs.rangeImage.rows()
+        << " px but intrinsics for " << cam.ncols << " x " << cam.nrows << " px";
+  else
+  {
+    bool ok = finite(sp.x()) && finite(sp.y()) && finite(sp.z());
+    const auto R = sp.getRotationMatrix();
+    for (int i = 0; i < 3; i++)
+      for (int j = 0; j < 3; j++) ok = ok && finite(R(i, j));
+    if (!ok) why << "sensorPose not finite: " << sp.asString();
+  }
+  return why.str();
+}
+}  // namespace
+
+DepthScanCheck checkDepthScan(const mrpt::obs::CObservation3DRangeScan& obs, const CloudParams& params)
+{
+  DepthScanCheck chk;
+  chk.reason = structuralFault(obs);
+  if (!chk.usable()) return chk;
+  const double limit = impossibleAbove(obs);
+  const auto& img = obs.rangeImage;
+  for (int r = 0; r < img.rows(); r++)
+    for (int c = 0; c < img.cols(); c++)
+    {
+      const uint16_t v = img(r, c);
+      if (v == 0) continue;
+      chk.returns++;
+      chk.impossible += v == kSaturated || v * static_cast<double>(obs.rangeUnits) > limit;
+    }
+  std::ostringstream why;
+  if (chk.returns == 0)
+    why << "no return in any of its " << img.rows() * img.cols() << " pixels";
+  else if (chk.impossible > params.max_impossible_share * static_cast<double>(chk.returns))
+    why << chk.impossible << " of " << chk.returns
+        << " returns impossible (0xFFFF or beyond its maxRange = " << obs.maxRange
+        << " m): more than max_impossible_share = " << params.max_impossible_share;
+  chk.reason = why.str();
+  return chk;
+}
+
+UsableScans usableDepthScans(const mrpt::obs::CSensoryFrame& sf, const CloudParams& params)
+{
+  UsableScans out;
+  for (const auto& scan : allDepthObservationsOf(sf))
+  {
+    out.observations++;
+    const auto chk = checkDepthScan(*scan, params);
+    const std::string label = scan->sensorLabel.empty() ? "(no label)" : scan->sensorLabel;
+    if (!chk.usable())
+    {
+      out.issues.push_back({label, chk.reason, true});
+      continue;
+    }
+    if (chk.impossible == 0)
+    {
+      out.scans.push_back(scan);
+      continue;
+    }
+    // A copy with the impossible returns set to 0 (no return): neither a
+    // point nor a free-space ray. The original stays untouched (keyframes).
+    auto clean = std::make_shared<mrpt::obs::CObservation3DRangeScan>(*scan);
+    const double limit = impossibleAbove(*scan);
+    auto& img = clean->rangeImage;
+    for (int r = 0; r < img.rows(); r++)
+      for (int c = 0; c < img.cols(); c++)
+        if (img(r, c) == kSaturated || img(r, c) * static_cast<double>(clean->rangeUnits) > limit)
+          img(r, c) = 0;
+    out.issues.push_back({label,
+                          std::to_string(chk.impossible) + " of " + std::to_string(chk.returns) +
+                              " returns impossible (0xFFFF or beyond its maxRange): dropped",
+                          false});
+    out.scans.push_back(clean);
+  }
   return out;
 }
 

@@ -46,9 +46,12 @@ struct ExploreOptions
 /// @brief What a run achieved (also summary.json).
 struct ExploreSummary
 {
-  std::string termination_reason;  ///< planner's done reason, "max_steps" or "max_sim_time"
+  std::string termination_reason;  ///< planner's done reason, "max_steps", "max_sim_time" or "interrupted" (SIGINT / SIGTERM)
   std::size_t steps = 0;           ///< planning steps
   std::size_t stops = 0;           ///< scan stops (SlamIcp calls)
+  std::size_t flagged_stops = 0;   ///< stops whose ICP was rejected (pose from odometry, kept out of the maps)
+  std::size_t relocalized_stops = 0;  ///< stops found again after a rejected ICP (odometry jump)
+  std::size_t skipped_cameras = 0;    ///< depth images skipped as faulty or missing, over all stops
   std::size_t failed_drives = 0;   ///< waypoints not reached (Blocked / Timeout / Error)
   std::size_t blacklisted = 0;     ///< targets given up
   double path_length_m = 0;        ///< ground-truth distance travelled [m]

@@ -24,6 +24,12 @@ struct ReplaySummary
   std::size_t entries = 0;        ///< rawlog entries read
   std::size_t stops = 0;          ///< entries with depth images (processed)
   std::size_t flagged = 0;        ///< stops whose ICP was rejected or skipped
+  std::size_t integrated = 0;     ///< stops that entered the maps (flagged ones do not)
+  std::size_t relocalized = 0;    ///< stops whose pose was found again after a rejected ICP
+  std::size_t skipped_cameras = 0;  ///< depth images skipped as faulty or missing, over all stops
+  std::size_t warnings = 0;       ///< warnings printed (faulty cameras, odometry)
+  /// "end of rawlog", "max_stops" (--max-stops reached) or "interrupted" (SIGINT / SIGTERM)
+  std::string termination_reason = "end of rawlog";
   std::size_t degenerate = 0;     ///< stops with a degenerate direction
   std::size_t missing_odometry = 0;
   std::size_t metaview_points = 0;

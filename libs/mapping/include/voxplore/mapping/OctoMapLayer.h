@@ -52,7 +52,7 @@ struct InsertStats
 {
   std::size_t rays = 0;          ///< pixels turned into rays (valid + clearing invalid ones)
   std::size_t hits = 0;          ///< endpoints marked occupied
-  std::size_t invalid = 0;       ///< pixels without a return (0 or non-finite range)
+  std::size_t invalid = 0;       ///< pixels without a usable return (0, non-finite or negative range, garbage pose)
   std::size_t free_updates = 0;  ///< distinct voxels updated as free
   std::size_t occ_updates = 0;   ///< distinct voxels updated as occupied
 };
@@ -137,10 +137,16 @@ struct PixelRays
   Eigen::Vector3d origin_world;
   std::vector<Eigen::Vector3d> endpoints_world;     ///< valid pixels
   std::vector<Eigen::Vector3d> invalid_dirs_world;  ///< unit directions of invalid pixels
+  /// Pixels that give no ray at all: non-finite or negative range, non-finite
+  /// camera pose or intrinsics (garbage must never reach OctoMap's keys).
+  std::size_t unusable = 0;
 };
 
 /// @brief Unprojects a depth image into world-frame rays using MRPT's
 ///        per-pixel LUT (so range_is_depth true and false both work).
+///        Pixels whose range, LUT entry or endpoint is not finite (or whose
+///        range is negative), and every pixel when the camera pose is not
+///        finite, are counted in PixelRays::unusable and give no ray.
 PixelRays unprojectRays(const mrpt::obs::CObservation3DRangeScan& obs,
                         const mrpt::poses::CPose3D& T_world_robot);
 

@@ -31,6 +31,18 @@ struct IcpParams : public mrpt::config::CLoadableOptions
   double degeneracy_ratio = 0.03;  ///< smallest/largest translational information eigenvalue below this = degenerate
   double normal_radius_m = 0.25;   ///< neighbourhood of the metaview line fits (normals, information matrix) [m]
   int min_points = 50;             ///< fewer cloud points: no ICP (keep odometry, flag)
+  /// Stage 2 that has not converged within max_iterations is accepted only
+  /// when its last update moved less than this (translation [m], or rotation
+  /// [rad] times 1 m); else it is rejected as not converged.
+  double max_unconverged_step_m = 0.002;
+  /// After a rejected registration (a wrong prediction: odometry jump,
+  /// kidnap) search poses around the prediction (relocalizePlanar).
+  bool relocalize = true;
+  double relocalize_radius_m = 1.5;  ///< search radius around the prediction [m]
+  double relocalize_yaw = mrpt::DEG2RAD(45.0);  ///< search half-width in yaw [rad] (ini: deg)
+  double relocalize_min_goodness = 0.85;  ///< accept a relocalisation only with this goodness
+  /// ... and only when no other, distinct pose scores within this goodness of it (ambiguity)
+  double relocalize_margin = 0.15;
 
   void loadFromConfigFile(const mrpt::config::CConfigFileBase& c, const std::string& s) override;
   void saveToConfigFile(mrpt::config::CConfigFileBase& c, const std::string& s) const override;
@@ -43,6 +55,8 @@ struct IcpResult
   mrpt::poses::CPose2D icp_pose;    ///< what ICP converged to (before degeneracy handling)
   double goodness = 0;              ///< share of cloud points with a metaview point within d_max_final_m
   unsigned iterations = 0;          ///< stage 1 + stage 2 iterations
+  bool converged = false;           ///< stage 2 reached a fixed point at d_max_final_m
+  double last_step_m = 0;           ///< stage 2's last update: translation [m] or rotation [rad] x 1 m, the larger
   double rms_m = 0;                 ///< point-to-line RMS residual of the final pairs [m]
   bool accepted = false;            ///< false: the prediction was kept
   std::string reason;               ///< why not accepted / what was adjusted
@@ -62,14 +76,29 @@ struct IcpResult
 ///        point-to-point converges slowly on sampled surfaces (300 iterations,
 ///        about 1 s per stop, on dlr_test_room; at 100 iterations the replay
 ///        ATE is 3.8 cm), while point-to-line converges in a few iterations.
-///        The result is accepted when goodness >= min_goodness and
-///        the correction is within max_correction_*; otherwise the prediction
-///        is kept. With degeneracy_check, the point-to-line information
+///        The result is accepted when it is finite, stage 2 converged (or
+///        its last update was below max_unconverged_step_m), goodness >=
+///        min_goodness and the correction is within max_correction_*;
+///        otherwise the prediction is kept and `reason` says why. With degeneracy_check, the point-to-line information
 ///        matrix at the solution (normals from the metaview) is analysed:
 ///        along a direction whose information is below degeneracy_ratio of
 ///        the strongest one (a featureless corridor) the odometry prediction
 ///        is kept and ICP's correction is used only across it.
 IcpResult alignPlanar(
+    const mrpt::maps::CPointsMap& reference_map, const mrpt::maps::CPointsMap& cloud_robot,
+    const mrpt::poses::CPose2D& predicted, const IcpParams& params);
+
+/// @brief Relocalisation after a rejected alignPlanar(): scores seeds on a
+///        grid round `predicted` (relocalize_radius_m in x, y; relocalize_yaw
+///        in yaw) by the share of a subsample of the cloud within 0.1 m of
+///        the reference, refines the best distinct seeds with alignPlanar()
+///        (correction limits widened to the search window, min_goodness =
+///        relocalize_min_goodness) and accepts the best refined pose only
+///        when it is not degenerate and no distinct pose (> 0.2 m or 5 deg
+///        away) comes within relocalize_margin of its goodness.
+/// @return the accepted result (reason "relocalized: ..."), or a rejected
+///         one keeping `predicted` with the reason
+IcpResult relocalizePlanar(
     const mrpt::maps::CPointsMap& reference_map, const mrpt::maps::CPointsMap& cloud_robot,
     const mrpt::poses::CPose2D& predicted, const IcpParams& params);
 

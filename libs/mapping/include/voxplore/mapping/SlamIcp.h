@@ -15,6 +15,7 @@
 #include <voxplore/mapping/robot_cloud.h>
 
 #include <optional>
+#include <set>
 #include <string>
 #include <vector>
 
@@ -44,7 +45,18 @@ struct StopReport
   mrpt::poses::CPose2D predicted;   ///< eq. 4.2 prediction, map frame
   mrpt::poses::CPose2D pose;        ///< final T_map_robot
   IcpResult icp;
-  bool flagged = false;             ///< ICP skipped or rejected: pose from odometry only
+  /// The pose is odometry only although ICP is enabled and this is not the
+  /// first stop: ICP rejected or impossible (no usable camera, too few
+  /// points, empty metaview). See icp.reason.
+  bool flagged = false;
+  /// The stop entered the metaview, the octree and the simplemap. A flagged
+  /// stop does not, unless the metaview is still empty (then its odometry
+  /// pose starts the map: nothing can be corrupted yet).
+  bool integrated = false;
+  bool relocalized = false;         ///< ICP rejected the prediction, relocalizePlanar() found the pose
+  std::size_t cameras_used = 0;     ///< depth images that passed checkDepthScan()
+  std::vector<CameraIssue> camera_issues;  ///< skipped, cleaned or missing cameras
+  std::vector<std::string> warnings;       ///< one line per issue, for the user
   std::size_t cloud_points = 0;     ///< |Q| after the floor cut
   std::size_t invalid_pixels = 0;
   std::size_t metaview_added = 0;
@@ -62,7 +74,12 @@ class SlamIcp
   /// @brief Processes one stop: its depth images and odometry reading.
   ///        The first stop defines the map frame (pose = origin whatever the
   ///        odometry reads, thesis 4.4.1) and frees the start box.
-  /// @throws std::runtime_error when `sf` holds no depth image.
+  ///        Faulty sensor data never throws and never reaches the maps:
+  ///        depth images failing checkDepthScan() are skipped (a warning
+  ///        naming the camera and the reason), cameras seen at earlier stops
+  ///        but missing here are reported, a non-finite odometry reading
+  ///        counts as no motion, and a stop without any usable depth image
+  ///        keeps the odometry prediction (flagged, not integrated).
   StopReport processStop(
       const mrpt::obs::CSensoryFrame& sf, const mrpt::poses::CPose2D& odometry,
       mrpt::Clock::time_point timestamp);
@@ -88,6 +105,9 @@ class SlamIcp
   void saveOutputs(const std::string& dir) const;
 
  private:
+  /// Fills the camera checks of `rep` (usable, skipped, missing cameras).
+  void checkCameras(const mrpt::obs::CSensoryFrame& sf, StopReport& rep, UsableScans& usable);
+
   SlamIcpParams params_;
   Metaview metaview_;
   OctoMapLayer octomap_;
@@ -96,6 +116,7 @@ class SlamIcp
   mrpt::poses::CPose2D pose_;
   std::optional<mrpt::poses::CPose2D> last_odometry_;
   std::optional<mrpt::poses::CPose2D> action_odometry_;  ///< accumulated action increments
+  std::set<std::string> known_cameras_;  ///< labels of every depth camera seen so far
 };
 
 /// @brief Writes the per-stop CSV (header + one row per report).

@@ -18,6 +18,10 @@ struct CloudParams : public mrpt::config::CLoadableOptions
   double z_min_m = 0.10;       ///< floor points below this height are dropped (thesis z_min) [m]
   double z_max_m = 2.0;        ///< points above this height are dropped [m]
   double max_range_m = 7.0;    ///< points farther from their camera are dropped [m]
+  /// A camera whose returns are more than this share impossible (0xFFFF, the
+  /// uint16 saturation, or beyond the observation's own maxRange) is skipped
+  /// as faulty; below it only those pixels are dropped (0..1).
+  double max_impossible_share = 0.5;
 
   void loadFromConfigFile(const mrpt::config::CConfigFileBase& c, const std::string& s) override;
   void saveToConfigFile(mrpt::config::CConfigFileBase& c, const std::string& s) const override;
@@ -37,6 +41,51 @@ struct RobotCloud
 
 /// @brief All CObservation3DRangeScan with a range image in a sensory frame.
 std::vector<mrpt::obs::CObservation3DRangeScan::Ptr> depthScansOf(const mrpt::obs::CSensoryFrame& sf);
+
+/// @brief Every CObservation3DRangeScan of a sensory frame, with or without a range image.
+std::vector<mrpt::obs::CObservation3DRangeScan::Ptr> allDepthObservationsOf(
+    const mrpt::obs::CSensoryFrame& sf);
+
+/// @brief What checkDepthScan() found in one depth image.
+struct DepthScanCheck
+{
+  std::string reason;             ///< why the camera cannot be used; empty: usable
+  std::size_t returns = 0;        ///< non-zero pixels
+  std::size_t impossible = 0;     ///< of them 0xFFFF or beyond the observation's maxRange
+  bool usable() const { return reason.empty(); }
+};
+
+/// @brief Checks a depth image before any of it is unprojected: a range
+///        image that is present and not empty, rangeUnits finite and > 0,
+///        intrinsics finite with fx, fy > 0 and the range image's size,
+///        sensorPose finite, at least one return, and at most
+///        params.max_impossible_share of the returns impossible (0xFFFF, or
+///        beyond obs.maxRange when that is finite and > 0). Non-finite values
+///        would reach OctoMap's key computation (undefined behaviour) and
+///        the metaview's hash grid.
+/// @return the reason in DepthScanCheck::reason when the camera must be skipped
+DepthScanCheck checkDepthScan(const mrpt::obs::CObservation3DRangeScan& obs, const CloudParams& params);
+
+/// @brief A depth image a stop could not use as it was (one per camera).
+struct CameraIssue
+{
+  std::string label;    ///< sensorLabel
+  std::string reason;   ///< what is wrong
+  bool skipped = true;  ///< false: used, with the impossible pixels dropped
+};
+
+/// @brief The depth images of a stop that pass checkDepthScan(), copies with
+///        their impossible pixels set to 0 where there were some, and what
+///        was wrong with the others.
+struct UsableScans
+{
+  std::vector<mrpt::obs::CObservation3DRangeScan::Ptr> scans;
+  std::vector<CameraIssue> issues;
+  std::size_t observations = 0;  ///< CObservation3DRangeScan in the frame (usable or not)
+};
+
+/// @brief checkDepthScan() over every CObservation3DRangeScan of `sf`.
+UsableScans usableDepthScans(const mrpt::obs::CSensoryFrame& sf, const CloudParams& params);
 
 /// @brief Unprojects every depth image into the robot frame (each camera's
 ///        sensorPose applied) and keeps the points above the floor band.
