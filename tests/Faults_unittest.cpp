@@ -391,6 +391,22 @@ TEST(Faults, StopWithoutCamerasKeepsThePredictionFlaggedAndOutOfTheMaps)
   EXPECT_NEAR(slam->currentPose().distanceTo(clean->currentPose()), 0.0, 0.005);
 }
 
+TEST(Faults, NonFiniteOdometryCountsAsNoMotionAndIcpFindsThePose)
+{
+  auto stops = recordedStops(5);
+  stops[2].odometry = CPose2D(kNaN, 0.0, 0.0);
+  const auto slam = runSlam(stops);
+  const auto clean = runSlam(recordedStops(5));
+  const auto& rep = slam->reports()[2];
+  ASSERT_EQ(rep.warnings.size(), 1u);
+  EXPECT_NE(rep.warnings[0].find("odometry reading not finite"), std::string::npos);
+  EXPECT_EQ(rep.predicted, slam->reports()[1].pose) << "no motion assumed";
+  for (const auto& r : slam->reports()) EXPECT_TRUE(finite(r.pose)) << r.index;
+  // The stops are 0.5 m apart: ICP (or the relocalisation) still finds stop 2.
+  EXPECT_NEAR(rep.pose.distanceTo(clean->reports()[2].pose), 0.0, 0.01) << rep.icp.reason;
+  EXPECT_TRUE(metaviewSane(slam->metaview()));
+}
+
 TEST(Faults, AllCamerasInvalidForTheFirstStopsThenTheMapStarts)
 {
   // Stops 0-2 have no usable image (rangeUnits NaN everywhere): the map
@@ -638,10 +654,12 @@ TEST(Faults, RobotBoxedInAClosetEndsWithAPlannerReason)
   EXPECT_LT(s.path_length_m, 0.5);
 }
 
-TEST(Faults, FrontierBehindANarrowGapHasNoPathAndEnds)
+TEST(Faults, RoomBehindANarrowGapIsUnreachableAndTheRunEnds)
 {
   // Two rooms joined by a 0.4 m slit the cameras see through but the robot
-  // cannot pass: the far room's frontiers have no path.
+  // cannot pass: no path leads to the far room (the planner's frontier
+  // search only reaches cells the robot can reach, so it reports the
+  // reachable space explored), and the robot never squeezes through.
   const std::string walls = room(0, 0, 8, 4) + ", " + wall(4, 0, 4, 1.8, 0.1) + ", " +
                             wall(4, 2.2, 4, 4, 0.1);
   const auto world = writeWorld("slit", walls, 1.5, 2.0);

@@ -80,46 +80,14 @@ void SlamIcp::checkCameras(const mrpt::obs::CSensoryFrame& sf, StopReport& rep, 
                            " depth images is usable");
 }
 
-StopReport SlamIcp::processStop(
-    const mrpt::obs::CSensoryFrame& sf, const CPose2D& odometry_in, mrpt::Clock::time_point timestamp)
+void SlamIcp::registerStop(StopReport& rep, const RobotCloud& cloud, bool has_depth)
 {
-  mrpt::system::CTicTac total, tic;
-  StopReport rep;
-  rep.index = reports_.size();
-  rep.timestamp = timestamp;
-  UsableScans usable;
-  checkCameras(sf, rep, usable);
-  const auto& scans = usable.scans;
-
-  // A non-finite odometry reading would make every pose NaN: no motion instead.
-  CPose2D odometry = odometry_in;
-  if (!finitePose(odometry))
-  {
-    rep.warnings.push_back("odometry reading not finite (" + odometry.asString() +
-                           "): assuming no motion since the previous stop");
-    odometry = last_odometry_ ? *last_odometry_ : CPose2D();
-  }
-  rep.odometry = odometry;
-
-  // 1. Prediction, thesis 4.4.1: the first pose is the origin (eq. 4.1, 4.2 after).
-  rep.predicted = last_odometry_ ? predictPose(pose_, *last_odometry_, odometry) : CPose2D();
-  last_odometry_ = odometry;
-
-  // 2. Cloud Q in the robot frame, floor removed.
-  tic.Tic();
-  const RobotCloud cloud = buildRobotCloud(scans, params_.cloud);
-  rep.t_cloud_ms = 1e3 * tic.Tac();
-  rep.cloud_points = cloud.points.size();
-  rep.invalid_pixels = cloud.invalid_pixels;
-
-  // 3. Planar ICP against the metaview M. The first stop defines the map
-  //    frame; a later stop without M (nothing mapped yet) or without a
-  //    usable depth image keeps the prediction.
-  rep.pose = rep.predicted;
-  rep.icp.pose = rep.pose;
-  rep.icp.icp_pose = rep.pose;
-  const bool first = reports_.empty();
-  if (scans.empty())
+  // The first stop defines the map frame; a later stop without M (nothing
+  // mapped yet) or without a usable depth image keeps the prediction.
+  mrpt::system::CTicTac tic;
+  rep.pose = rep.icp.pose = rep.icp.icp_pose = rep.predicted;
+  const bool first = rep.index == 0;
+  if (!has_depth)
     rep.icp.reason = "no usable depth image";
   else if (first)
     rep.icp.reason = "first stop";
@@ -127,7 +95,6 @@ StopReport SlamIcp::processStop(
     rep.icp.reason = "metaview empty: pose from odometry, this stop starts the map";
   else
   {
-    tic.Tic();
     rep.icp = alignPlanar(metaview_.footprint(), cloud.points, rep.predicted, params_.icp);
     // ICP ran and was rejected: the prediction may be wrong (an odometry
     // jump). Search round it; accepted only when unambiguous.
@@ -139,9 +106,9 @@ StopReport SlamIcp::processStop(
       rep.icp.reason = first_reason + "; " + rep.icp.reason;
       rep.relocalized = rep.icp.accepted;
     }
-    rep.t_icp_ms = 1e3 * tic.Tac();
     rep.pose = rep.icp.pose;
   }
+  rep.t_icp_ms = 1e3 * tic.Tac();
   // Flagged: ICP should have registered the stop and did not. With ICP
   // disabled on purpose, odometry is the method and nothing is flagged.
   rep.flagged = params_.icp.enabled && !first && !rep.icp.accepted;
@@ -151,13 +118,18 @@ StopReport SlamIcp::processStop(
     rep.pose = rep.predicted;
     rep.flagged = true;
   }
-  pose_ = rep.pose;
+}
 
+void SlamIcp::integrateStop(
+    StopReport& rep, const RobotCloud& cloud,
+    const std::vector<mrpt::obs::CObservation3DRangeScan::Ptr>& scans,
+    const mrpt::obs::CSensoryFrame& sf)
+{
   // 4. Metaview with point reduction. A flagged stop does not enter M (nor
   //    V): its pose is only as good as odometry. While M is empty there is
   //    nothing to corrupt and the stop starts the map.
+  mrpt::system::CTicTac tic;
   rep.integrated = !scans.empty() && (!rep.flagged || metaview_.empty());
-  tic.Tic();
   if (rep.integrated) rep.metaview_added = metaview_.insert(cloud.points, rep.pose);
   rep.metaview_size = metaview_.size();
   rep.t_metaview_ms = 1e3 * tic.Tac();
@@ -165,7 +137,7 @@ StopReport SlamIcp::processStop(
   // 5. OctoMap V, per camera, from each camera's origin.
   tic.Tic();
   const CPose3D T_map_robot(rep.pose);
-  if (first) octomap_.setStartBoxFree(T_map_robot);
+  if (rep.index == 0) octomap_.setStartBoxFree(T_map_robot);
   if (rep.integrated)
     for (const auto& s : scans)
     {
@@ -180,14 +152,56 @@ StopReport SlamIcp::processStop(
 
   // Keyframe for the .simplemap: the stops that entered the map, with the
   // depth images used (cleaned copies) and the other observations.
-  if (rep.integrated)
+  if (!rep.integrated) return;
+  mrpt::obs::CSensoryFrame kf;
+  for (const auto& o : sf)
+    if (!std::dynamic_pointer_cast<mrpt::obs::CObservation3DRangeScan>(o)) kf.insert(o);
+  for (const auto& s : scans) kf.insert(s);
+  simplemap_.insert(mrpt::poses::CPose3DPDFGaussian(T_map_robot), kf);
+}
+
+StopReport SlamIcp::processStop(
+    const mrpt::obs::CSensoryFrame& sf, const CPose2D& odometry_in, mrpt::Clock::time_point timestamp)
+{
+  mrpt::system::CTicTac total, tic;
+  StopReport rep;
+  rep.index = reports_.size();  // 0: the first stop
+  rep.timestamp = timestamp;
+  UsableScans usable;
+  checkCameras(sf, rep, usable);
+
+  // A non-finite odometry reading would make every pose NaN: no motion instead.
+  CPose2D odometry = odometry_in;
+  const bool odometry_missing = !finitePose(odometry);
+  const CPose2D previous_pose = pose_;
+  if (odometry_missing)
   {
-    mrpt::obs::CSensoryFrame kf;
-    for (const auto& o : sf)
-      if (!std::dynamic_pointer_cast<mrpt::obs::CObservation3DRangeScan>(o)) kf.insert(o);
-    for (const auto& s : scans) kf.insert(s);
-    simplemap_.insert(mrpt::poses::CPose3DPDFGaussian(T_map_robot), kf);
+    rep.warnings.push_back("odometry reading not finite (" + odometry.asString() +
+                           "): assuming no motion since the previous stop");
+    odometry = last_odometry_ ? *last_odometry_ : CPose2D();
   }
+  rep.odometry = odometry;
+
+  // 1. Prediction, thesis 4.4.1: the first pose is the origin (eq. 4.1, 4.2 after).
+  rep.predicted = last_odometry_ ? predictPose(pose_, *last_odometry_, odometry) : CPose2D();
+  last_odometry_ = odometry;
+
+  // 2. Cloud Q in the robot frame, floor removed.
+  tic.Tic();
+  const RobotCloud cloud = buildRobotCloud(usable.scans, params_.cloud);
+  rep.t_cloud_ms = 1e3 * tic.Tac();
+  rep.cloud_points = cloud.points.size();
+  rep.invalid_pixels = cloud.invalid_pixels;
+
+  // 3. Planar ICP against the metaview M.
+  registerStop(rep, cloud, !usable.scans.empty());
+  pose_ = rep.pose;
+  // The reading this stop should have had: the registered motion since the
+  // previous stop, so that the next increment starts from here.
+  if (odometry_missing && rep.index > 0) last_odometry_ = odometry + (rep.pose - previous_pose);
+
+  // 4. and 5. Metaview, OctoMap, keyframe.
+  integrateStop(rep, cloud, usable.scans, sf);
   rep.t_total_ms = 1e3 * total.Tac();
   reports_.push_back(rep);
   return rep;

@@ -107,6 +107,12 @@ class SlamIcp
  private:
   /// Fills the camera checks of `rep` (usable, skipped, missing cameras).
   void checkCameras(const mrpt::obs::CSensoryFrame& sf, StopReport& rep, UsableScans& usable);
+  /// Step 3: ICP (and relocalisation) or the prediction; sets pose, icp, flagged.
+  void registerStop(StopReport& rep, const RobotCloud& cloud, bool has_depth);
+  /// Steps 4 and 5 and the keyframe, for a stop that is integrated.
+  void integrateStop(StopReport& rep, const RobotCloud& cloud,
+                     const std::vector<mrpt::obs::CObservation3DRangeScan::Ptr>& scans,
+                     const mrpt::obs::CSensoryFrame& sf);
 
   SlamIcpParams params_;
   Metaview metaview_;
