@@ -1,6 +1,7 @@
 // Rawlogs written by the simulator round-trip through MRPT's reader and ours;
 // truncated and missing files give errors naming the file and entry.
 #include <gtest/gtest.h>
+#include <mrpt/obs/CActionRobotMovement2D.h>
 #include <mrpt/obs/CObservation3DRangeScan.h>
 #include <mrpt/obs/CObservationOdometry.h>
 #include <mrpt/obs/CRawlog.h>
@@ -134,4 +135,68 @@ TEST(Rawlog, MissingAndEmptyFilesAreNamedErrors)
   const auto garbage = tempPath("garbage.rawlog");
   std::ofstream(garbage) << "this is not a rawlog at all, just some text\n";
   EXPECT_THROW(common::forEachRawlogEntry(garbage, [](auto&) { return true; }), std::runtime_error);
+}
+
+// Every cut of the last entry must stop at once with an error naming the file
+// and the entry. Found by fuzz/fuzz_rawlog: MRPT's CArchive accepts a short
+// read inside a field, so a file cut inside a uint32 count left the count's
+// last bytes unset (a CActionCollection of up to 4e9 actions: minutes and tens
+// of GB). Found by this test: a cut just before a nested object's header made
+// MRPT throw end-of-file, which the reader took for a complete file.
+TEST(Rawlog, EveryCutInsideTheLastEntryIsAnError)
+{
+  auto pair = [](double x)
+  {
+    mrpt::obs::CActionCollection acts;
+    mrpt::obs::CActionRobotMovement2D move;
+    move.computeFromOdometry(mrpt::poses::CPose2D(x, 0, 0),
+                             mrpt::obs::CActionRobotMovement2D::TMotionModelOptions());
+    acts.insert(move);
+    auto sf = mrpt::obs::CSensoryFrame::Create();
+    auto scan = mrpt::obs::CObservation3DRangeScan::Create();
+    scan->hasRangeImage = true;
+    scan->cameraParams.ncols = 4;
+    scan->cameraParams.nrows = 3;
+    scan->rangeImage.resize(3, 4);
+    scan->rangeImage.fill(1500);
+    sf->insert(scan);
+    return std::make_pair(acts, sf);
+  };
+  const auto whole = tempPath("cut_whole.rawlog");
+  std::uintmax_t first_size = 0;
+  {
+    common::RawlogWriter w(whole);  // flushed after each pair
+    auto [a0, sf0] = pair(0.0);
+    w.write(a0, *sf0);
+    first_size = fs::file_size(whole);
+    auto [a1, sf1] = pair(0.5);
+    w.write(a1, *sf1);
+  }
+  const auto size = fs::file_size(whole);
+  ASSERT_GT(size, first_size);
+  std::ifstream in(whole, std::ios::binary);
+  const std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  const auto cut = tempPath("cut.rawlog");
+  for (auto len = first_size + 1; len < size; ++len)
+  {
+    std::ofstream(cut, std::ios::binary | std::ios::trunc).write(bytes.data(), len);
+    std::size_t seen = 0;
+    try
+    {
+      common::forEachRawlogEntry(cut,
+                                 [&](const common::RawlogEntry&)
+                                 {
+                                   seen++;
+                                   return true;
+                                 });
+      ADD_FAILURE() << "no error for a rawlog cut at byte " << len << " of " << size;
+    }
+    catch (const std::runtime_error& e)
+    {
+      const std::string msg = e.what();
+      EXPECT_NE(msg.find("cut.rawlog"), std::string::npos) << msg;
+      EXPECT_NE(msg.find("entry 1"), std::string::npos) << "cut at " << len << ": " << msg;
+    }
+    EXPECT_EQ(seen, 1u) << "cut at byte " << len;
+  }
 }

@@ -533,3 +533,50 @@ TEST(WorldLoading, ParseStartPose)
     EXPECT_THROW(parseStartPose(bad), std::runtime_error) << "'" << bad << "'";
   }
 }
+
+// --- (d) inputs found by fuzzing (fuzz/corpus/*/crash_*) ------------------------
+
+TEST(WorldLoadingErrors, FuzzFindingsAreNamedErrors)
+{
+  const fs::path dir = scratchDir();
+  // nlohmann throws out_of_range (not parse_error) for a number beyond double
+  // range; it escaped as a non-runtime_error without the file name.
+  const std::string overflow =
+      writeFile(dir / "overflow.world", R"({"start": {"x": 16e308, "y": 0}, "elements": []})");
+  std::string msg = errorOf([&] { loadWorld(overflow); });
+  EXPECT_EQ(msg.rfind(overflow, 0), 0u) << msg;
+  EXPECT_NE(msg.find("malformed JSON"), std::string::npos) << msg;
+
+  // Finite doubles beyond float range made infinite (float) mesh vertices.
+  const std::string plan =
+      writeFile(dir / "huge.json", R"({"verts": [[0, 0], [1e308, 0], [0, 1]]})");
+  msg = errorOf([&] { loadWorld(plan); });
+  EXPECT_EQ(msg.rfind(plan, 0), 0u) << msg;
+  EXPECT_NE(msg.find("verts[1]"), std::string::npos) << msg;
+  EXPECT_NE(msg.find("float range"), std::string::npos) << msg;
+
+  const std::string cylinder = writeFile(
+      dir / "huge.world",
+      R"({"elements": [{"type": "cylinder", "center": [0, 0], "radius": 1e300, "z": [0, 1]}]})");
+  msg = errorOf([&] { loadWorld(cylinder); });
+  EXPECT_EQ(msg.rfind(cylinder, 0), 0u) << msg;
+  EXPECT_NE(msg.find("elements[0] (cylinder)"), std::string::npos) << msg;
+  EXPECT_NE(msg.find("not finite"), std::string::npos) << msg;
+}
+
+TEST(WorldFile, ParsingTextEqualsLoadingTheFile)
+{
+  const std::string path = (kWorldsDir / "dlr_test_room.world").string();
+  const std::string text = readText(path);
+  const World from_file = loadWorldFile(path);
+  const World from_text = parseWorldFile(text, path);
+  EXPECT_EQ(from_text.name, from_file.name);
+  EXPECT_EQ(from_text.mesh.numTriangles(), from_file.mesh.numTriangles());
+  EXPECT_EQ(from_text.solids.size(), from_file.solids.size());
+  EXPECT_EQ(from_text.start.x(), from_file.start.x());
+  EXPECT_EQ(from_text.start.y(), from_file.start.y());
+  EXPECT_EQ(from_text.start.phi(), from_file.start.phi());
+  const World plan = parseFloorPlan(R"({"verts": [[0, 0], [4, 0], [4, 3], [0, 3]]})", "plan.json");
+  EXPECT_EQ(plan.mesh.numTriangles(), 2u * 4u + 2u) << "4 wall quads and the ground";
+  EXPECT_EQ(errorOf([] { parseFloorPlan("{", "text.json"); }).rfind("text.json", 0), 0u);
+}

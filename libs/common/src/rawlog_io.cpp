@@ -10,6 +10,46 @@
 
 namespace voxplore::common
 {
+namespace
+{
+/// Reads all or nothing. MRPT's CArchive accepts a short read inside a field
+/// (ReadBuffer throws only when zero bytes come): a rawlog truncated inside a
+/// uint32 count leaves that count's last bytes unset, and the garbage count
+/// then allocates gigabytes or loops for minutes (found by fuzz/fuzz_rawlog).
+/// Reporting a short read as zero bytes makes CArchive throw at once.
+/// consumed() tells a clean end of file (CExceptionEOF at an object boundary)
+/// from a file cut at the boundary of an object nested in another.
+class AllOrNothingInput : public mrpt::io::CStream
+{
+ public:
+  explicit AllOrNothingInput(mrpt::io::CStream& in) : in_(in) {}
+
+  size_t Read(void* buffer, size_t count) override
+  {
+    auto* p = static_cast<unsigned char*>(buffer);
+    size_t got = 0;
+    while (got < count)
+    {
+      const size_t n = in_.Read(p + got, count - got);
+      if (n == 0) break;
+      got += n;
+    }
+    consumed_ += got;
+    return got == count ? count : 0;
+  }
+  /// Bytes taken from the underlying stream so far.
+  uint64_t consumed() const { return consumed_; }
+  size_t Write(const void*, size_t) override { return 0; }
+  uint64_t Seek(int64_t offset, TSeekOrigin origin) override { return in_.Seek(offset, origin); }
+  uint64_t getTotalBytesCount() const override { return in_.getTotalBytesCount(); }
+  uint64_t getPosition() const override { return in_.getPosition(); }
+
+ private:
+  mrpt::io::CStream& in_;
+  uint64_t consumed_ = 0;
+};
+}  // namespace
+
 RawlogWriter::RawlogWriter(const std::string& path) : path_(path)
 {
   out_.open(path, std::ios::binary | std::ios::trunc);
@@ -42,7 +82,8 @@ std::size_t forEachRawlogEntry(
   if (fs::file_size(path) == 0) throw std::runtime_error("rawlog file is empty: '" + path + "'");
   mrpt::io::CFileGZInputStream in;
   if (!in.open(path)) throw std::runtime_error("cannot open rawlog file '" + path + "'");
-  auto arch = mrpt::serialization::archiveFrom(in);
+  AllOrNothingInput exact(in);
+  auto arch = mrpt::serialization::archiveFrom(exact);
 
   std::size_t n = 0;
   mrpt::obs::CActionCollection::Ptr pending_actions;
@@ -53,12 +94,16 @@ std::size_t forEachRawlogEntry(
   for (;;)
   {
     mrpt::serialization::CSerializable::Ptr obj;
+    const uint64_t consumed_before = exact.consumed();
     try
     {
       obj = arch.ReadObject();
     }
     catch (const mrpt::serialization::CExceptionEOF&)
     {
+      // MRPT throws EOF also for a nested object's missing header: a file cut
+      // there is truncated, not complete (found by tests on every cut length).
+      if (exact.consumed() != consumed_before) fail("the file ends inside an object");
       if (pending_actions) fail("ends after an action collection without its sensory frame");
       break;
     }

@@ -5,6 +5,7 @@
 
 #include <cmath>
 #include <filesystem>
+#include <limits>
 
 #include "json_file.h"
 
@@ -43,6 +44,13 @@ std::vector<Eigen::Vector2d> readPolygon(const json& doc, const std::string& pat
     if (!p.allFinite())
     {
       detail::failFile(path, "verts[" + std::to_string(i) + "] is not finite");
+    }
+    // The walls are float vertices: 1e308 is a finite double but an infinite
+    // wall (found by fuzz/fuzz_floor_plan).
+    if (!(p.cwiseAbs().maxCoeff() <= std::numeric_limits<float>::max()))
+    {
+      detail::failFile(path, "verts[" + std::to_string(i) +
+                                 "] is beyond the float range of mesh vertices, got " + v.dump());
     }
     if (!poly.empty() && p == poly.back())
     {
@@ -92,11 +100,16 @@ void extrudeWalls(const std::vector<Eigen::Vector2d>& poly, float height, Triang
 
 World loadFloorPlan(const std::string& path, const WorldLoadOptions& opts)
 {
+  return parseFloorPlan(detail::readTextFile(path), path, opts);
+}
+
+World parseFloorPlan(const std::string& text, const std::string& path, const WorldLoadOptions& opts)
+{
   if (!(opts.wall_height_m > 0) || !std::isfinite(opts.wall_height_m))
   {
     detail::failFile(path, "wall height must be > 0, got " + std::to_string(opts.wall_height_m));
   }
-  const json doc = detail::readJsonFile(path);
+  const json doc = detail::parseJsonText(text, path);
   World world;
   world.name = std::filesystem::path(path).stem().string();
   world.source_path = path;

@@ -42,10 +42,31 @@ inline void requireNonEmptyFile(const std::string& path)
   }
 }
 
-/// @brief Reads and parses a JSON file.
-/// @throws std::runtime_error naming `path` when missing, empty, unreadable or
-///         not valid JSON (with nlohmann's byte position).
-inline nlohmann::json readJsonFile(const std::string& path)
+/// @brief Parses JSON text read from `path`.
+/// @throws std::runtime_error naming `path` when it is not valid JSON (with
+///         nlohmann's byte position).
+inline nlohmann::json parseJsonText(const std::string& text, const std::string& path)
+{
+  try
+  {
+    return nlohmann::json::parse(text);
+  }
+  catch (const nlohmann::json::parse_error& e)
+  {
+    failFile(path,
+             "malformed JSON at byte " + std::to_string(e.byte) + ": " + std::string(e.what()));
+  }
+  catch (const nlohmann::json::exception& e)
+  {
+    // Not a parse_error but still malformed input, e.g. out_of_range.406 for a
+    // number beyond double range ("1e400"); found by fuzz/fuzz_world_file.
+    failFile(path, "malformed JSON: " + std::string(e.what()));
+  }
+}
+
+/// @brief Reads a whole file as text.
+/// @throws std::runtime_error naming `path` when missing, empty or unreadable.
+inline std::string readTextFile(const std::string& path)
 {
   requireNonEmptyFile(path);
   std::ifstream in(path, std::ios::binary);
@@ -55,15 +76,15 @@ inline nlohmann::json readJsonFile(const std::string& path)
   }
   std::stringstream buffer;
   buffer << in.rdbuf();
-  try
-  {
-    return nlohmann::json::parse(buffer.str());
-  }
-  catch (const nlohmann::json::parse_error& e)
-  {
-    failFile(path,
-             "malformed JSON at byte " + std::to_string(e.byte) + ": " + std::string(e.what()));
-  }
+  return buffer.str();
+}
+
+/// @brief Reads and parses a JSON file.
+/// @throws std::runtime_error naming `path` when missing, empty, unreadable or
+///         not valid JSON (with nlohmann's byte position).
+inline nlohmann::json readJsonFile(const std::string& path)
+{
+  return parseJsonText(readTextFile(path), path);
 }
 
 /// @brief Where in a file a JSON object sits, for error messages.

@@ -7,6 +7,7 @@
 #include <cmath>
 #include <filesystem>
 #include <functional>
+#include <limits>
 #include <map>
 
 #include "json_file.h"
@@ -230,7 +231,18 @@ void loadElement(const json& element, std::size_t index, const std::string& path
     }
     f.where().fail("unknown element type '" + type + "' (known: " + known + ")");
   }
+  const std::size_t first_vertex = world.mesh.vertices.size();
   it->second(f);
+  // A number beyond float range (e.g. "radius": 1e300) gives infinite vertices
+  // (found by fuzz/fuzz_world_file).
+  for (std::size_t v = first_vertex; v < world.mesh.vertices.size(); ++v)
+  {
+    if (!world.mesh.vertices[v].allFinite())
+    {
+      f.where().fail("the element's geometry is not finite (a number beyond float range, |x| > " +
+                     std::to_string(std::numeric_limits<float>::max()) + "?)");
+    }
+  }
 }
 
 mrpt::poses::CPose2D readStart(const json& doc, const std::string& path)
@@ -252,7 +264,12 @@ mrpt::poses::CPose2D readStart(const json& doc, const std::string& path)
 
 World loadWorldFile(const std::string& path, const WorldLoadOptions& opts)
 {
-  const json doc = detail::readJsonFile(path);
+  return parseWorldFile(detail::readTextFile(path), path, opts);
+}
+
+World parseWorldFile(const std::string& text, const std::string& path, const WorldLoadOptions& opts)
+{
+  const json doc = detail::parseJsonText(text, path);
   if (!doc.is_object())
   {
     detail::failFile(path, "a world file must be a JSON object with an 'elements' array");

@@ -63,6 +63,20 @@ World loadFloorPlan(const std::string& path, const WorldLoadOptions& opts = {});
 /// @throws std::runtime_error naming the file (and the element index) when malformed.
 World loadWorldFile(const std::string& path, const WorldLoadOptions& opts = {});
 
+/// @brief Parses the text of a `.world` file as if read from `path`: errors
+///        name `path`, relative element files resolve against its folder and
+///        World::name is its stem (`path` itself is not read). loadWorldFile()
+///        reads the file and calls this; the fuzz target calls it directly.
+/// @throws std::runtime_error naming `path` (and the element index) when malformed.
+World parseWorldFile(const std::string& text, const std::string& path,
+                     const WorldLoadOptions& opts = {});
+
+/// @brief Parses the text of a HouseExpo floor plan as if read from `path`
+///        (see loadFloorPlan(); `path` names it in errors and is not read).
+/// @throws std::runtime_error naming `path` when malformed.
+World parseFloorPlan(const std::string& text, const std::string& path,
+                     const WorldLoadOptions& opts = {});
+
 /// @brief Adds a ground quad at z = 0 covering the mesh bounds plus `margin_m`.
 void addGroundPlane(World& world, double margin_m);
 
