@@ -276,9 +276,11 @@ IcpResult relocalizePlanar(
   std::sort(refined.begin(), refined.end(),
             [](const IcpResult& a, const IcpResult& b) { return a.goodness > b.goodness; });
   std::ostringstream why;
-  if (refined.empty() || !refined[0].accepted)
-    why << "relocalisation failed: best goodness " << (refined.empty() ? 0.0 : refined[0].goodness)
-        << " < " << p.relocalize_min_goodness;
+  if (refined.empty())
+    why << "relocalisation failed: no seed";
+  else if (!refined[0].accepted)
+    why << "relocalisation failed: best match (goodness " << refined[0].goodness
+        << ") rejected: " << refined[0].reason;
   else if (refined[0].degenerate)
     why << "relocalisation failed: degenerate scene";
   else

@@ -34,7 +34,7 @@ struct IcpParams : public mrpt::config::CLoadableOptions
   /// Stage 2 that has not converged within max_iterations is accepted only
   /// when its last update moved less than this (translation [m], or rotation
   /// [rad] times 1 m); else it is rejected as not converged.
-  double max_unconverged_step_m = 0.002;
+  double max_unconverged_step_m = 0.01;
   /// After a rejected registration (a wrong prediction: odometry jump,
   /// kidnap) search poses around the prediction (relocalizePlanar).
   bool relocalize = true;
