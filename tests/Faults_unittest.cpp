@@ -31,6 +31,7 @@
 
 #include <chrono>
 #include <cmath>
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <functional>
@@ -755,6 +756,17 @@ bool waitFor(pid_t pid, const std::function<bool()>& ready, double timeout_s)
   return false;
 }
 
+/// Kills the child if it is still running (a failed wait must not leak it).
+void stopChild(pid_t pid)
+{
+  int st = 0;
+  if (waitpid(pid, &st, WNOHANG) == 0)
+  {
+    kill(pid, SIGKILL);
+    waitpid(pid, &st, 0);
+  }
+}
+
 /// Exit code of the child (waits at most `timeout_s`, then kills it: -1).
 int exitCode(pid_t pid, double timeout_s)
 {
@@ -804,6 +816,7 @@ TEST(Faults, SigintStopsVoxploreExploreWithCompleteLoadableOutputs)
             log);
   ASSERT_GT(pid, 0);
   const bool ready = waitFor(pid, [&] { return fs::exists(out + "/steps/step_002.png"); }, 120);
+  if (!ready) stopChild(pid);
   ASSERT_TRUE(ready) << slurp(log);
   kill(pid, SIGINT);
   const int code = exitCode(pid, 120);
@@ -846,6 +859,7 @@ TEST(Faults, SigintStopsVoxploreReplayWithCompleteLoadableOutputs)
                           log);
   ASSERT_GT(pid, 0);
   const bool ready = waitFor(pid, [&] { return slurp(log).find("stop 3") != std::string::npos; }, 60);
+  if (!ready) stopChild(pid);
   ASSERT_TRUE(ready) << slurp(log);
   kill(pid, SIGINT);
   const int code = exitCode(pid, 60);
