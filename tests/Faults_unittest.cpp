@@ -345,7 +345,8 @@ TEST(Faults, ReplayWithGarbageCamerasStaysWithinMillimetresOfTheCleanRun)
       faults[k % faults.size()].inject(camera(stops[i], (i + 3 * c) % 8));
     }
   }
-  stops[20].sf->eraseByLabel(camera(stops[20], 6).sensorLabel);
+  const std::string missing = camera(stops[20], 6).sensorLabel;  // a copy: erasing frees it
+  stops[20].sf->eraseByLabel(missing);
   injected++;
   const auto s = replay(writeRawlog(stops, "garbage_rawlog"), "replay_garbage");
   const auto& clean = cleanReplay();
