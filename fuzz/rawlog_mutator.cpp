@@ -53,6 +53,34 @@ bool isGzip(const std::uint8_t* d, std::size_t n)
   return n >= 2 && d[0] == 0x1f && d[1] == 0x8b;
 }
 
+/// A byte buffer MRPT reads all or nothing, like forEachRawlogEntry's stream:
+/// CArchive accepts a short read inside a field, and a seed cut inside a
+/// uint32 count would otherwise give a garbage count (GBs) here.
+class ExactBuffer : public mrpt::io::CStream
+{
+ public:
+  explicit ExactBuffer(const Bytes& b) : b_(b) {}
+  std::size_t Read(void* out, std::size_t n) override
+  {
+    if (n > b_.size() - pos_)
+    {
+      pos_ = b_.size();
+      return 0;
+    }
+    std::memcpy(out, b_.data() + pos_, n);
+    pos_ += n;
+    return n;
+  }
+  std::size_t Write(const void*, std::size_t) override { return 0; }
+  std::uint64_t Seek(std::int64_t, TSeekOrigin) override { return pos_; }
+  std::uint64_t getTotalBytesCount() const override { return b_.size(); }
+  std::uint64_t getPosition() const override { return pos_; }
+
+ private:
+  const Bytes& b_;
+  std::size_t pos_ = 0;
+};
+
 /// The leading objects MRPT reads from `data` (plain or gzip); stops at the
 /// first fault. Corpus inputs come from the seeds or this mutator, so their
 /// payloads are well-formed up to a truncation or a rejected header.
@@ -71,8 +99,8 @@ std::vector<Obj> parseObjects(const std::uint8_t* data, std::size_t size, bool& 
   {
     return objects;
   }
-  mrpt::io::CMemoryStream ms(raw.data(), raw.size());
-  auto arch = mrpt::serialization::archiveFrom(ms);
+  ExactBuffer in(raw);
+  auto arch = mrpt::serialization::archiveFrom(in);
   for (;;)
   {
     try
