@@ -121,6 +121,77 @@ TEST(Projection, ColumnStatesFromTheVoxelsInTheBandOnly)
   EXPECT_EQ(at(g.state, -0.95, -1.05), GroundState::Unknown) << "never observed";
 }
 
+// An exploration region: the columns outside the polygon are Occupied
+// (virtual walls), those inside as before; the robot's own column stays free.
+TEST(Projection, ColumnsOutsideTheRegionAreOccupied)
+{
+  octomap::OcTree t(0.05);
+  fillBox(t, -2.0, 2.0, -2.0, 2.0, 0.0, 0.6, freeLog(t));  // all known free
+  ProjectionParams p;
+  p.margin_m = 0.5;
+  const CPose2D robot(0.0, 0.0, 0);
+  const GroundGrid open = projectToGround(t, robot, p);
+  // A triangle (map frame) round the robot.
+  p.region = {{-1.0, -1.0}, {1.5, -1.0}, {-1.0, 1.5}};
+  const GroundGrid g = projectToGround(t, robot, p);
+  std::size_t inside = 0, outside = 0;
+  for (int cy = 0; cy < static_cast<int>(g.state.getSizeY()); ++cy)
+    for (int cx = 0; cx < static_cast<int>(g.state.getSizeX()); ++cx)
+    {
+      const Eigen::Vector2d c = cellCenter(g.state, Cell{cx, cy});
+      const bool in = c.x() > -1.0 && c.y() > -1.0 && c.x() + c.y() < 0.5;
+      const GroundState s = *g.state.cellByIndex(cx, cy);
+      const GroundState was = *open.state.cellByIndex(cx, cy);
+      if (in)
+      {
+        inside++;
+        EXPECT_EQ(s, was) << c.transpose();
+      }
+      else if (was == GroundState::Free)
+      {
+        outside++;  // the fill reaches the region's border and stops there
+        EXPECT_NE(s, GroundState::Free) << c.transpose();
+      }
+    }
+  EXPECT_GT(inside, 1000u);
+  EXPECT_GT(outside, 1000u);
+  EXPECT_EQ(*g.state.cellByIndex(g.robot.cx, g.robot.cy), GroundState::Free);
+  // ini: x y pairs, at least 3 vertices.
+  mrpt::config::CConfigFileMemory c;
+  c.write("projection", "region", "-1 -1  1.5 -1  -1 1.5");
+  ProjectionParams q;
+  q.loadFromConfigFile(c, "projection");
+  ASSERT_EQ(q.region.size(), 3u);
+  EXPECT_DOUBLE_EQ(q.region[1].x(), 1.5);
+  for (const char* bad : {"1 2 3 4", "1 2 3 4 5", "0 0 1 1 x y"})
+  {
+    c.write("projection", "region", bad);
+    try
+    {
+      q.loadFromConfigFile(c, "projection");
+      ADD_FAILURE() << bad;
+    }
+    catch (const std::exception& e)
+    {
+      EXPECT_NE(std::string(e.what()).find("region"), std::string::npos) << e.what();
+    }
+  }
+}
+
+// A phantom occupied voxel in the robot's own column (noise, or a pose
+// error) must not hide the whole map: the robot stands there.
+TEST(Projection, OccupiedRobotColumnStillStartsTheFill)
+{
+  octomap::OcTree t(0.05);
+  fillBox(t, -2.0, 2.0, -2.0, 2.0, 0.0, 0.6, freeLog(t));
+  fillBox(t, 0.0, 0.05, 0.0, 0.05, 0.2, 0.25, occLog(t));  // the robot's column
+  const GroundGrid g = projectToGround(t, CPose2D(0.02, 0.02, 0), ProjectionParams());
+  EXPECT_EQ(*g.state.cellByIndex(g.robot.cx, g.robot.cy), GroundState::Free);
+  std::size_t free_cells = 0;
+  for (const auto s : g.state) free_cells += s == GroundState::Free;
+  EXPECT_GT(free_cells, 6000u);  // the 4 x 4 m known floor
+}
+
 TEST(Projection, GridAlignsWithVoxelColumnsAndCoversMarginAndRobot)
 {
   octomap::OcTree t(0.05);
@@ -197,6 +268,9 @@ TEST(CollisionSpace, MatchesBruteForceOnRandomGrid)
                         : GroundState::Free;
   CollisionParams p;
   p.r_coll_m = 0.2;
+  // thesis 4.5.2: every unknown cell is a MaybeCollision source
+  p.ignore_unknown_beside_obstacles = false;
+  p.min_open_unknown_depth_m = 0;
   const CollisionSpace cs = computeCollisionSpace(g, p);
   const double res = 0.05, R = 0.2 + std::sqrt(2.0) * res;
   EXPECT_DOUBLE_EQ(cs.radius_m, R);
@@ -228,6 +302,122 @@ TEST(CollisionSpace, MatchesBruteForceOnRandomGrid)
     }
   EXPECT_GT(collision, 100);
   EXPECT_GT(maybe, 10);
+}
+
+// Which unknown cells stand for unexplored space, by brute force: an unknown
+// cell beside an occupied one (an unseen wall base) is closed; so is a
+// 4-connected unknown pocket in which no cell lies deeper than the depth
+// from known space and that does not touch the grid border.
+TEST(CollisionSpace, OpenUnknownMatchesBruteForce)
+{
+  GroundGrid g = makeGround(-2.0, 2.0, -1.5, 1.5, 0.05, GroundState::Free);
+  std::mt19937 rng(5);
+  std::uniform_int_distribution<int> pick(0, 99);
+  for (auto& s : g.state) s = pick(rng) < 2 ? GroundState::Occupied : GroundState::Free;
+  paint(g, -1.6, -0.8, -1.2, -0.5, GroundState::Unknown);  // a thick pocket: open
+  paint(g, 0.5, 0.65, -1.0, 1.0, GroundState::Unknown);    // 3 cells wide: closed at depth 0.10
+  paint(g, 1.5, 2.0, 1.0, 1.5, GroundState::Unknown);      // touches the border: open
+  for (auto& s : g.state)
+    if (s == GroundState::Free && pick(rng) < 3) s = GroundState::Unknown;  // specks: closed
+  CollisionParams p;
+  p.r_coll_m = 0.2;
+  const CollisionSpace cs = computeCollisionSpace(g, p);
+  const int nx = static_cast<int>(g.state.getSizeX()), ny = static_cast<int>(g.state.getSizeY());
+  const auto at = [&](int x, int y) { return *g.state.cellByIndex(x, y); };
+  // Pockets by brute force.
+  std::vector<int> pocket(static_cast<std::size_t>(nx) * ny, -1);
+  std::vector<bool> pocket_open;
+  for (int y0 = 0; y0 < ny; ++y0)
+    for (int x0 = 0; x0 < nx; ++x0)
+    {
+      if (at(x0, y0) != GroundState::Unknown || pocket[x0 + y0 * nx] >= 0) continue;
+      const int id = static_cast<int>(pocket_open.size());
+      bool open = false;
+      std::deque<std::pair<int, int>> q{{x0, y0}};
+      pocket[x0 + y0 * nx] = id;
+      while (!q.empty())
+      {
+        const auto [x, y] = q.front();
+        q.pop_front();
+        double depth = INFINITY;
+        for (int v = 0; v < ny; ++v)
+          for (int u = 0; u < nx; ++u)
+            if (at(u, v) != GroundState::Unknown) depth = std::min(depth, std::hypot(u - x, v - y));
+        open = open || depth * 0.05 > 0.10 || x == 0 || y == 0 || x == nx - 1 || y == ny - 1;
+        const int nb[4][2] = {{x + 1, y}, {x - 1, y}, {x, y + 1}, {x, y - 1}};
+        for (const auto& n : nb)
+          if (n[0] >= 0 && n[1] >= 0 && n[0] < nx && n[1] < ny &&
+              at(n[0], n[1]) == GroundState::Unknown && pocket[n[0] + n[1] * nx] < 0)
+          {
+            pocket[n[0] + n[1] * nx] = id;
+            q.emplace_back(n[0], n[1]);
+          }
+      }
+      pocket_open.push_back(open);
+    }
+  const auto occ = [&](int x, int y)
+  { return x >= 0 && y >= 0 && x < nx && y < ny && at(x, y) == GroundState::Occupied; };
+  int open_cells = 0, closed_cells = 0;
+  for (int y = 0; y < ny; ++y)
+    for (int x = 0; x < nx; ++x)
+    {
+      bool want = false;
+      if (at(x, y) == GroundState::Unknown)
+        want = pocket_open[pocket[x + y * nx]] &&
+               !(occ(x + 1, y) || occ(x - 1, y) || occ(x, y + 1) || occ(x, y - 1));
+      ASSERT_EQ(cs.open_unknown[x + y * nx] != 0, want) << x << "," << y;
+      if (at(x, y) == GroundState::Unknown) (want ? open_cells : closed_cells)++;
+    }
+  EXPECT_GT(open_cells, 150);
+  EXPECT_GT(closed_cells, 100);
+  // MaybeCollision comes from open unknown only: by brute force again.
+  const double R2 = std::pow((0.2 + std::sqrt(2.0) * 0.05) / 0.05, 2) + 1e-9;
+  for (int y = 0; y < ny; ++y)
+    for (int x = 0; x < nx; ++x)
+    {
+      if (at(x, y) != GroundState::Free) continue;
+      bool near_occ = false, near_open = false;
+      for (int v = 0; v < ny; ++v)
+        for (int u = 0; u < nx; ++u)
+        {
+          const double d2 = double(u - x) * (u - x) + double(v - y) * (v - y);
+          if (d2 > R2) continue;
+          near_occ = near_occ || at(u, v) == GroundState::Occupied;
+          near_open = near_open || cs.open_unknown[u + v * nx] != 0;
+        }
+      const SpaceState want = near_occ    ? SpaceState::Collision
+                              : near_open ? SpaceState::MaybeCollision
+                                          : SpaceState::Free;
+      ASSERT_EQ(*cs.state.cellByIndex(x, y), want) << x << "," << y;
+    }
+}
+
+// A 1.1 m corridor whose wall bases were not all seen: the unseen cells
+// beside the walls must not close it (thesis 4.5.2 would: their
+// MaybeCollision discs reach across), and the room behind is reached.
+TEST(Frontiers, UnseenWallBasesDoNotCloseANarrowCorridor)
+{
+  GroundGrid g = makeGround(-0.5, 8.0, -1.0, 1.0, 0.05, GroundState::Free);
+  paint(g, -0.5, 8.0, -1.0, -0.55, GroundState::Occupied);
+  paint(g, -0.5, 8.0, 0.55, 1.0, GroundState::Occupied);
+  paint(g, -0.5, -0.35, -0.55, 0.55, GroundState::Occupied);  // closed behind the robot
+  paint(g, 6.0, 8.0, -0.55, 0.55, GroundState::Unknown);      // unexplored beyond
+  // Unseen patches (0.1 x 0.2 m) at both wall bases half-way: with thesis
+  // 4.5.2 their MaybeCollision discs cut the corridor, and the search (which
+  // enters MaybeCollision but never leaves it for Free) stops there.
+  paint(g, 2.5, 2.6, -0.55, -0.35, GroundState::Unknown);
+  paint(g, 2.5, 2.6, 0.35, 0.55, GroundState::Unknown);
+  ASSERT_TRUE(cellOf(g.state, Eigen::Vector2d(0.0, 0.0), g.robot));
+  CollisionParams p;
+  p.r_coll_m = 0.308;  // the compact robot
+  const FrontierMap fm = findFrontiers(g, computeCollisionSpace(g, p));
+  ASSERT_EQ(fm.frontiers.size(), 1u);
+  EXPECT_NEAR(fm.frontiers[0].centroid.x(), 6.0, 0.1);
+
+  p.ignore_unknown_beside_obstacles = false;  // thesis: the specks close the corridor
+  p.min_open_unknown_depth_m = 0;
+  for (const Frontier& f : findFrontiers(g, computeCollisionSpace(g, p)).frontiers)
+    EXPECT_LT(f.centroid.x(), 5.5);
 }
 
 TEST(CollisionSpace, NoObstacleMeansInfiniteClearance)

@@ -63,8 +63,34 @@ TEST(Explore, DlrTestRoomIsExploredCompletelySafelyAndAccurately)
 
   for (const char* f : {"map.bt", "map.simplemap", "metaview.ply", "run.rawlog",
                         "trajectory_gt.tum", "trajectory_est.tum", "coverage.csv", "stops.csv",
-                        "params.ini", "summary.json", "steps/step_001.png", "coverage.png"})
+                        "params.ini", "summary.json", "steps/step_001.png", "coverage.png",
+                        "coverage_map.png"})
     EXPECT_TRUE(fs::is_regular_file(fs::path(out) / f)) << f;
+  // The closed room: the circumcircle reaches no floor the planner's radius
+  // does not, up to the cells a wider disc cannot sweep in corners.
+  EXPECT_NEAR(s.coverage_2d_circumradius, s.coverage_2d, 0.03);
+  EXPECT_GT(s.peak_rss_mb, 10.0);
+  // coverage.csv: memory and map size per step.
+  {
+    std::ifstream f(fs::path(out) / "coverage.csv");
+    std::string header, row, last;
+    std::getline(f, header);
+    EXPECT_NE(header.find("metaview_points,octree_nodes,rss_mb"), std::string::npos) << header;
+    while (std::getline(f, row)) last = row;
+    const auto cols = [](const std::string& line)
+    {
+      std::vector<std::string> out;
+      std::stringstream ss(line);
+      std::string c;
+      while (std::getline(ss, c, ',')) out.push_back(c);
+      return out;
+    };
+    const auto v = cols(last);
+    ASSERT_EQ(v.size(), cols(header).size()) << last;
+    EXPECT_GT(std::stod(v[v.size() - 3]), 1000.0);  // metaview points
+    EXPECT_GT(std::stod(v[v.size() - 2]), 1000.0);  // octree nodes
+    EXPECT_GT(std::stod(v[v.size() - 1]), 10.0);    // rss [MiB]
+  }
 
   // coverage.png (coverage per step, thesis fig. 5.3): a real PNG with a plot in it.
   const auto png = fs::path(out) / "coverage.png";
@@ -84,7 +110,7 @@ TEST(Explore, DlrTestRoomIsExploredCompletelySafelyAndAccurately)
   const auto j = readJson(fs::path(out) / "summary.json");
   for (const char* k : {"termination_reason", "steps", "path_length_m", "coverage_2d", "coverage_3d",
                         "map_precision", "collisions", "min_clearance_m", "ate_rmse_m", "compute_s",
-                        "sim_time_s"})
+                        "sim_time_s", "coverage_2d_circumradius", "peak_rss_mb"})
     EXPECT_TRUE(j.contains(k)) << k;
   EXPECT_EQ(j["termination_reason"].get<std::string>(), s.termination_reason);
   EXPECT_EQ(j["steps"].get<std::size_t>(), s.steps);
@@ -124,7 +150,8 @@ TEST(Explore, SameSeedGivesTheSameSummary)
     o.max_steps = 6;
     apps::ExploreApp{}.execute(o);
     auto j = readJson(fs::path(o.out_dir) / "summary.json");
-    j.erase("compute_s");  // wall time
+    j.erase("compute_s");    // wall time
+    j.erase("peak_rss_mb");  // memory of the process, not of the run
     runs.push_back(j);
   }
   EXPECT_EQ(runs[0]["termination_reason"], "max_steps");

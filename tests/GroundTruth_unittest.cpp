@@ -198,6 +198,42 @@ TEST(ReachableFreeFloor, ClosedBoxRoom)
   EXPECT_GE(rf.obstacle.origin.x() + rf.obstacle.nx * res, 4.125 + res - 1e-6);
 }
 
+// A room open to the south on a wide ground plane: without a region the
+// reachable floor leaks out into the yard; with the obstacle bounds as the
+// region only the floor inside the building's extent counts.
+TEST(ReachableFreeFloor, RegionKeepsAnOpenBuildingsFloorInside)
+{
+  World w;
+  const float t = 0.125f, sx = 4, sy = 3;
+  w.mesh.addQuad({-10, -10, 0}, {14, -10, 0}, {14, 13, 0}, {-10, 13, 0});  // the yard's floor
+  w.mesh.addBox({-t / 2, sy / 2, 1}, {t, sy + 2 * t, 2});                  // west
+  w.mesh.addBox({sx + t / 2, sy / 2, 1}, {t, sy + 2 * t, 2});              // east
+  w.mesh.addBox({sx / 2, sy + t / 2, 1}, {sx, t, 2});                      // north; south open
+  const CollisionChecker checker(w, 0.03, 0.645);
+  const Eigen::AlignedBox2d b = obstacleBounds(checker);
+  EXPECT_NEAR(b.min().x(), -0.125, 1e-4);
+  EXPECT_NEAR(b.max().x(), 4.125, 1e-4);
+  EXPECT_NEAR(b.min().y(), -0.125, 1e-4);
+  EXPECT_NEAR(b.max().y(), 3.125, 1e-4);
+  const mrpt::poses::CPose2D start(2, 1.5, 0);
+  const auto leak = reachableFreeFloor(w, checker, start, 0.3, 0.05);
+  const auto in = reachableFreeFloor(w, checker, start, 0.3, 0.05, &b);
+  EXPECT_GT(leak.free_floor_area_m2, 100.0) << "out into the yard";
+  EXPECT_TRUE(cellAt(leak.free_floor, 2.0, -5.0));
+  EXPECT_FALSE(cellAt(in.free_floor, 2.0, -5.0));
+  EXPECT_FALSE(cellAt(in.free_floor, 2.0, -0.2)) << "outside the bounds";
+  EXPECT_TRUE(cellAt(in.free_floor, 2.0, -0.05));
+  EXPECT_TRUE(cellAt(in.free_floor, 2.0, 1.5));
+  EXPECT_NEAR(in.free_floor_area_m2, 4.0 * 3.125, 2 * (4 + 3) * 0.05);
+  // A closed room is the same with its bounds as the region.
+  World closed;
+  addRoom(closed.mesh, 4, 3);
+  const CollisionChecker cc(closed, 0.03, 0.645);
+  const Eigen::AlignedBox2d cb = obstacleBounds(cc);
+  EXPECT_NEAR(reachableFreeFloor(closed, cc, start, 0.3, 0.05).free_floor_area_m2,
+              reachableFreeFloor(closed, cc, start, 0.3, 0.05, &cb).free_floor_area_m2, 1e-9);
+}
+
 TEST(ReachableFreeFloor, NarrowDoorwayBlocksTheSecondRoom)
 {
   for (const float door : {0.4f, 1.0f})

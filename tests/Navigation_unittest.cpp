@@ -13,6 +13,8 @@
 #include <voxplore/sim/world_loading.h>
 
 #include <cmath>
+#include <fstream>
+#include <optional>
 #include <iostream>
 #include <memory>
 #include <vector>
@@ -91,13 +93,16 @@ struct SimRig
   std::unique_ptr<apps::SimRobot> robot;
   std::unique_ptr<StopAndScanDriver> driver;
 
-  explicit SimRig(const std::string& profile)
+  explicit SimRig(const std::string& profile, const std::string& world = testRoom(),
+                  const std::optional<mrpt::poses::CPose2D>& start = std::nullopt,
+                  std::optional<double> shape_margin_m = std::nullopt)
   {
     cfg = sim::SimConfig::defaults(profile);
-    sim = std::make_unique<sim::Simulator>(sim::loadWorld(testRoom()), cfg.robot, cfg.cameras,
+    sim = std::make_unique<sim::Simulator>(sim::loadWorld(world, start), cfg.robot, cfg.cameras,
                                            cfg.sim);
     robot = std::make_unique<apps::SimRobot>(*sim);
     auto p = DriverParams::forFootprint(cfg.robot.length_m, cfg.robot.width_m);
+    if (shape_margin_m) p.shape_margin_m = *shape_margin_m;
     p.max_v_mps = cfg.robot.max_v_mps;
     p.max_w = cfg.robot.max_w;
     driver = std::make_unique<StopAndScanDriver>(*robot, p);
@@ -475,4 +480,70 @@ TEST(StopAndScanDriver, OmnirobReachesWaypointsAtThePlannersClearance)
   const LapStats s = driveLap(rig, wps);
   EXPECT_EQ(s.reached, wps.size());
   EXPECT_EQ(rig.collisions(), 0u);
+}
+
+// ---------------------------------------------------------------------------
+// Two 4 x 4 m rooms joined by a 5 m corridor 1.1 m wide (walls 0.15 m thick):
+// the passages of turtlebot3_house, where MRPT's CHolonomicND stalled.
+std::string corridorWorld()
+{
+  const std::string path = test::tempPath("corridor_1m1.world");
+  std::ofstream f(path);
+  f << R"({"name": "corridor_1m1", "start": {"x": 2.0, "y": 2.0, "yaw_deg": 0},
+  "elements": [
+    {"type": "wall", "from": [0, 0], "to": [4, 0]}, {"type": "wall", "from": [0, 4], "to": [4, 4]},
+    {"type": "wall", "from": [0, 0], "to": [0, 4]},
+    {"type": "wall", "from": [4, 0], "to": [4, 1.375]}, {"type": "wall", "from": [4, 2.625], "to": [4, 4]},
+    {"type": "wall", "from": [4, 1.375], "to": [9, 1.375]}, {"type": "wall", "from": [4, 2.625], "to": [9, 2.625]},
+    {"type": "wall", "from": [9, 0], "to": [9, 1.375]}, {"type": "wall", "from": [9, 2.625], "to": [9, 4]},
+    {"type": "wall", "from": [9, 0], "to": [13, 0]}, {"type": "wall", "from": [9, 4], "to": [13, 4]},
+    {"type": "wall", "from": [13, 0], "to": [13, 4]}]})";
+  return path;
+}
+
+TEST(StopAndScanDriver, CompactRobotDrivesThroughA1m1CorridorAndBack)
+{
+  // shape_margin_m 0 as in config/explore.ini: the navigator's circle is the
+  // footprint's circumcircle (0.308 m); 0.095 m to each wall in the corridor.
+  SimRig rig("compact", corridorWorld(), std::nullopt, 0.0);
+  std::vector<Vector2d> wps;
+  for (double x = 3.0; x <= 10.01; x += 1.0) wps.emplace_back(x, 2.0);
+  for (double x = 9.0; x >= 2.99; x -= 1.0) wps.emplace_back(x, 2.0);
+  const LapStats s = driveLap(rig, wps);
+  EXPECT_EQ(s.reached, wps.size());
+  EXPECT_EQ(rig.collisions(), 0u);
+  EXPECT_NEAR(s.final_pose.x(), 3.0, 0.1);
+}
+
+TEST(StopAndScanDriver, StraightFallbackStopsBeforeAnObstacleOnTheWay)
+{
+  // The way east from (2, 0.8) runs into the room's east wall (x = 4 - 0.075):
+  // the straight drive checks the whole way still to go and does not start.
+  SimRig rig("compact", corridorWorld(), mrpt::poses::CPose2D(2.0, 0.8, 0.0), 0.0);
+  const auto r = rig.driver->driveStraight({5.0, 0.8});
+  EXPECT_EQ(r.outcome, DriveOutcome::Blocked) << r.message;
+  EXPECT_NE(r.message.find("straight way"), std::string::npos) << r.message;
+  EXPECT_NEAR(r.final_pose.x(), 2.0, 1e-9);
+  EXPECT_LT(r.distance_m, 1e-9);
+  EXPECT_EQ(rig.collisions(), 0u);
+  // A free way is driven to the end.
+  const auto back = rig.driver->driveStraight({2.0, 2.0});
+  EXPECT_EQ(back.outcome, DriveOutcome::Reached) << back.message;
+}
+
+TEST(StopAndScanDriver, EscapeBacksOffFromAWallAtTheCircle)
+{
+  // 0.33 m from the west wall's face (x = 0.075): inside robotRadius() +
+  // escape_clearance_m = 0.308 + 0.10 m.
+  SimRig rig("compact", corridorWorld(), mrpt::poses::CPose2D(0.405, 2.0, 0.0), 0.0);
+  const auto r = rig.driver->escape();
+  EXPECT_EQ(r.outcome, DriveOutcome::Reached) << r.message;
+  const auto p = rig.sim->robot().groundTruth();
+  EXPECT_GT(p.x() - 0.075, 0.308 + 0.10 - 0.02) << "backed off east, away from the wall";
+  EXPECT_NEAR(p.y(), 2.0, 0.05) << "straight away from it";
+  EXPECT_EQ(rig.collisions(), 0u);
+  // Already clear: nothing to do.
+  const auto again = rig.driver->escape();
+  EXPECT_EQ(again.outcome, DriveOutcome::Reached);
+  EXPECT_LT(again.distance_m, 1e-9);
 }

@@ -106,6 +106,7 @@ void ExploreParams::loadFromConfigFile(const mrpt::config::CConfigFileBase& c, c
   MRPT_LOAD_CONFIG_VAR(gt_floor_res_m, double, c, s);
   MRPT_LOAD_CONFIG_VAR(band_z_min_m, double, c, s);
   MRPT_LOAD_CONFIG_VAR(band_z_max_m, double, c, s);
+  MRPT_LOAD_CONFIG_VAR(region_from_world, bool, c, s);
   common::requireValid(max_steps >= 0, c, s, "max_steps", "must be >= 0");
   common::requireValid(max_sim_time_s > 0, c, s, "max_sim_time_s", "must be > 0");
   common::requireValid(max_plans_per_target >= 0, c, s, "max_plans_per_target", "must be >= 0");
@@ -130,6 +131,7 @@ void ExploreParams::saveToConfigFile(mrpt::config::CConfigFileBase& c, const std
   MRPT_SAVE_CONFIG_VAR(gt_floor_res_m, c, s);
   MRPT_SAVE_CONFIG_VAR(band_z_min_m, c, s);
   MRPT_SAVE_CONFIG_VAR(band_z_max_m, c, s);
+  MRPT_SAVE_CONFIG_VAR(region_from_world, c, s);
 }
 
 int ExploreApp::run(int argc, const char* const* argv)

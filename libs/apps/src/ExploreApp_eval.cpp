@@ -1,7 +1,10 @@
 // voxplore-explore: ground-truth metrics of a run (coverage, clearance).
 #include "ExploreApp_internal.h"
 
+#include <mrpt/img/CImage.h>
+
 #include <algorithm>
+#include <stdexcept>
 #include <cmath>
 #include <cstdint>
 #include <unordered_set>
@@ -44,6 +47,52 @@ double coverage2d(
       if (s && *s == exploration::GroundState::Free) known++;
     }
   return total ? double(known) / double(total) : 0.0;
+}
+
+void writeCoverageMap(
+    const exploration::GroundGrid& g, const sim::ReachableFloor& gt, const sim::ReachableFloor& body,
+    const mrpt::poses::CPose2D& T_world_map,
+    const std::vector<mrpt::poses::CPose2D>& trajectory_world, const std::string& png_path,
+    int scale)
+{
+  const sim::FloorGrid& f = gt.free_floor;
+  const mrpt::poses::CPose2D T_map_world = -T_world_map;
+  mrpt::img::CImage img(f.nx * scale, f.ny * scale, mrpt::img::CH_RGB);
+  const auto known = [&](int ix, int iy)
+  {
+    const Eigen::Vector2d cw = f.center(ix, iy);
+    double mx = 0, my = 0;
+    T_map_world.composePoint(cw.x(), cw.y(), mx, my);
+    exploration::Cell c;
+    if (!exploration::cellOf(g.state, Eigen::Vector2d(mx, my), c)) return false;
+    const auto* s = g.state.cellByIndex(static_cast<unsigned>(c.cx), static_cast<unsigned>(c.cy));
+    return s && *s == exploration::GroundState::Free;
+  };
+  for (int iy = 0; iy < f.ny; iy++)
+    for (int ix = 0; ix < f.nx; ix++)
+    {
+      mrpt::img::TColor col(225, 225, 225);
+      if (gt.obstacle.at(ix, iy))
+        col = mrpt::img::TColor(0, 0, 0);
+      else if (f.at(ix, iy))
+        col = known(ix, iy) ? mrpt::img::TColor(120, 160, 255) : mrpt::img::TColor(220, 40, 40);
+      else if (body.free_floor.nx == f.nx && body.free_floor.ny == f.ny && body.free_floor.at(ix, iy))
+        col = known(ix, iy) ? mrpt::img::TColor(255, 210, 150) : mrpt::img::TColor(255, 140, 0);
+      const int x0 = ix * scale, y0 = (f.ny - 1 - iy) * scale;
+      img.filledRectangle(x0, y0, x0 + scale - 1, y0 + scale - 1, col);
+    }
+  const auto px = [&](const mrpt::poses::CPose2D& p)
+  {
+    return std::make_pair(static_cast<int>((p.x() - f.origin.x()) / f.res_m * scale),
+                          static_cast<int>((f.ny - (p.y() - f.origin.y()) / f.res_m) * scale));
+  };
+  for (std::size_t i = 1; i < trajectory_world.size(); i++)
+  {
+    const auto [x0, y0] = px(trajectory_world[i - 1]);
+    const auto [x1, y1] = px(trajectory_world[i]);
+    img.line(x0, y0, x1, y1, mrpt::img::TColor(120, 20, 20), 1);
+  }
+  if (!img.saveToFile(png_path)) throw std::runtime_error("cannot write image '" + png_path + "'");
 }
 
 double coverage3d(

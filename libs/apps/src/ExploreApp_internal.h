@@ -35,6 +35,19 @@ double coverage3d(
 ///        grown rectangle covers the true d-offset shape, so the value is a
 ///        lower bound within the rectangle's corner rounding.
 /// @return 0 when a pose collides; `cap_m` when nothing is within cap_m
+/// @brief coverage_map.png: the ground-truth floor grid (world frame, y up)
+///        with the reachable free floor (`gt`) the map knows as Free in blue,
+///        the part it missed in red, the floor only the bare circumcircle
+///        reaches (`body` minus `gt`) in orange (light when known),
+///        obstacles black, the rest light grey, and the true trajectory in
+///        dark red: where coverage_2d was lost. `gt` and `body` share a grid.
+/// @throws std::runtime_error naming the path when it cannot be written.
+void writeCoverageMap(
+    const exploration::GroundGrid& g, const sim::ReachableFloor& gt, const sim::ReachableFloor& body,
+    const mrpt::poses::CPose2D& T_world_map,
+    const std::vector<mrpt::poses::CPose2D>& trajectory_world, const std::string& png_path,
+    int scale = 2);
+
 double minClearance(
     const sim::CollisionChecker& checker, const sim::Footprint& footprint,
     const std::vector<mrpt::poses::CPose2D>& trajectory_world, double cap_m = 2.0);

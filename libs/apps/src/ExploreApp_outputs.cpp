@@ -2,12 +2,16 @@
 // summary.json) and the ground-truth evaluation of a finished run.
 #include <mrpt/core/format.h>
 #include <mrpt/img/CImage.h>
+#include <octomap/OcTree.h>
 #include <voxplore/eval/map_accuracy.h>
 #include <voxplore/eval/trajectory_error.h>
 
 #include <algorithm>
 #include <cmath>
+#include <cstdlib>
+#include <cstring>
 #include <filesystem>
+#include <fstream>
 #include <iomanip>
 #include <iostream>
 #include <sstream>
@@ -21,6 +25,17 @@ namespace fs = std::filesystem;
 
 namespace
 {
+/// A memory figure of this process from /proc/self/status ("VmRSS:" now,
+/// "VmHWM:" peak) in MiB; 0 where /proc is not available.
+double processMemoryMb(const char* key)
+{
+  std::ifstream f("/proc/self/status");
+  std::string line;
+  while (std::getline(f, line))
+    if (line.rfind(key, 0) == 0) return std::atof(line.c_str() + std::strlen(key)) / 1024.0;
+  return 0.0;
+}
+
 /// @brief The coverage_2d column of a coverage.csv, one value per step.
 /// @return empty when the file cannot be read, has no such column or no rows
 std::vector<double> readCoverageSeries(const fs::path& csv_path)
@@ -120,11 +135,14 @@ void writeExploreSummary(const ExploreSummary& s, const std::string& path)
     << ",\n  \"relocalized_stops\": " << s.relocalized_stops
     << ",\n  \"skipped_cameras\": " << s.skipped_cameras << ",\n  \"failed_drives\": " << s.failed_drives
     << ",\n  \"blacklisted\": " << s.blacklisted << ",\n  \"path_length_m\": " << s.path_length_m
-    << ",\n  \"coverage_2d\": " << s.coverage_2d << ",\n  \"coverage_3d\": " << s.coverage_3d
+    << ",\n  \"coverage_2d\": " << s.coverage_2d
+    << ",\n  \"coverage_2d_circumradius\": " << s.coverage_2d_circumradius
+    << ",\n  \"coverage_3d\": " << s.coverage_3d
     << ",\n  \"map_precision\": " << s.map_precision
     << ",\n  \"map_precision_above_floor\": " << s.map_precision_above_floor << ",\n  \"collisions\": " << s.collisions
     << ",\n  \"min_clearance_m\": " << s.min_clearance_m << ",\n  \"ate_rmse_m\": " << s.ate_rmse_m
-    << ",\n  \"compute_s\": " << s.compute_s << ",\n  \"sim_time_s\": " << s.sim_time_s << "\n}\n";
+    << ",\n  \"compute_s\": " << s.compute_s << ",\n  \"sim_time_s\": " << s.sim_time_s
+    << ",\n  \"peak_rss_mb\": " << s.peak_rss_mb << "\n}\n";
 }
 
 void ExploreRun::openOutputs()
@@ -137,7 +155,8 @@ void ExploreRun::openOutputs()
   if (!coverage_csv_) throw std::runtime_error("cannot write '" + (dir / "coverage.csv").string() + "'");
   coverage_csv_ << "step,stops,sim_time_s,path_length_m,coverage_2d,frontiers,done,target_x,"
                    "target_y,waypoints,ms_slam,ms_projection,ms_collision,ms_frontiers,"
-                   "ms_sampling,ms_rating,ms_path,ms_plan_total\n";
+                   "ms_sampling,ms_rating,ms_path,ms_plan_total,metaview_points,octree_nodes,"
+                   "rss_mb\n";
   if (cfg_.explore.write_step_images) fs::create_directories(dir / "steps");
 }
 
@@ -149,12 +168,14 @@ double ExploreRun::coverageOf(const exploration::GroundGrid& g) const
 void ExploreRun::writeCoverageRow(const exploration::PlanResult& p, double coverage)
 {
   coverage_csv_ << mrpt::format(
-      "%zu,%zu,%.3f,%.4f,%.5f,%zu,%s,%.3f,%.3f,%zu,%.1f,%.1f,%.1f,%.1f,%.1f,%.1f,%.1f,%.1f\n",
+      "%zu,%zu,%.3f,%.4f,%.5f,%zu,%s,%.3f,%.3f,%zu,%.1f,%.1f,%.1f,%.1f,%.1f,%.1f,%.1f,%.1f,%zu,%zu,"
+      "%.1f\n",
       s_.steps, s_.stops, sim_.simTime(), s_.path_length_m, coverage,
       p.frontiers ? p.frontiers->frontiers.size() : std::size_t(0),
       p.ok() ? "no" : exploration::toString(p.done), p.target.x(), p.target.y(),
       p.waypoints.size(), slam_ms_step_, p.ms.projection, p.ms.collision, p.ms.frontiers,
-      p.ms.sampling, p.ms.rating, p.ms.path, p.ms.total);
+      p.ms.sampling, p.ms.rating, p.ms.path, p.ms.total, slam_.metaview().size(),
+      slam_.octomap().tree().size(), processMemoryMb("VmRSS:"));
   coverage_csv_.flush();
   // coverage.png follows coverage.csv at every step (a few ms), so a run cut
   // short still leaves it.
@@ -210,6 +231,8 @@ void ExploreRun::finish()
   const auto ground =
       exploration::projectToGround(slam_.octomap().tree(), slam_.currentPose(), cfg_.planner.projection);
   s_.coverage_2d = coverageOf(ground);
+  s_.coverage_2d_circumradius =
+      explore_detail::coverage2d(ground, gt_floor_body_.free_floor, T_world_map_);
   const auto occupied = slam_.octomap().occupiedVoxelCenters();
   const auto band = sim::occupiedVoxels(sim_.world().mesh, res, cfg_.explore.band_z_min_m,
                                         cfg_.explore.band_z_max_m);
@@ -238,6 +261,7 @@ void ExploreRun::finish()
                       .ate_rmse_m;
   s_.compute_s = compute_s_;
   s_.sim_time_s = sim_.simTime();
+  s_.peak_rss_mb = processMemoryMb("VmHWM:");
   writeCoveragePlot(readCoverageSeries(dir / "coverage.csv"), (dir / "coverage.png").string());
   writeExploreSummary(s_, (dir / "summary.json").string());
   if (!quiet_)

@@ -12,6 +12,7 @@
 
 #include <voxplore/apps/app_common.h>
 
+#include "ExploreApp_internal.h"
 #include "ExploreRun.h"
 
 namespace voxplore::apps
@@ -48,8 +49,32 @@ ExploreRun::ExploreRun(
   // with the odometry increment since then (never the ground truth).
   robot_.setPoseSource(
       [this]() { return pose_at_stop_ + (robot_.odometry() - odo_at_stop_); });
-  gt_floor_ = sim::reachableFreeFloor(sim_.world(), sim_.checker(), T_world_map_,
-                                      cfg_.planner.collision.r_coll_m, cfg_.explore.gt_floor_res_m);
+  const Eigen::AlignedBox2d region = sim::obstacleBounds(sim_.checker());
+  const bool bounded = cfg_.explore.region_from_world && !region.isEmpty();
+  if (bounded)
+  {
+    // The box's corners in the map frame (the start pose is its origin).
+    const mrpt::poses::CPose2D T_map_world = -T_world_map_;
+    cfg_.planner.projection.region.clear();
+    for (const auto corner : {Eigen::AlignedBox2d::BottomLeft, Eigen::AlignedBox2d::BottomRight,
+                              Eigen::AlignedBox2d::TopRight, Eigen::AlignedBox2d::TopLeft})
+    {
+      const Eigen::Vector2d w = region.corner(corner);
+      double mx = 0, my = 0;
+      T_map_world.composePoint(w.x(), w.y(), mx, my);
+      cfg_.planner.projection.region.emplace_back(mx, my);
+    }
+  }
+  // coverage_2d: the floor a robot with the planner's collision radius
+  // r_coll + sqrt(2) l_res (thesis eq. 4.4) can reach; a passage narrower than
+  // that is out of the method's reach by design. The floor the bare
+  // circumcircle reaches is reported beside it.
+  const double r_planner = cfg_.planner.collision.r_coll_m + std::sqrt(2.0) * cfg_.slam.octomap.l_res_m;
+  gt_floor_ = sim::reachableFreeFloor(sim_.world(), sim_.checker(), T_world_map_, r_planner,
+                                      cfg_.explore.gt_floor_res_m, bounded ? &region : nullptr);
+  gt_floor_body_ = sim::reachableFreeFloor(sim_.world(), sim_.checker(), T_world_map_,
+                                           cfg_.planner.collision.r_coll_m,
+                                           cfg_.explore.gt_floor_res_m, bounded ? &region : nullptr);
   gt_path_.push_back(T_world_map_);
 }
 
@@ -73,6 +98,9 @@ ExploreSummary ExploreRun::execute()
                              out_dir_ + ")");
   }
   finish();
+  if (last_ground_)
+    explore_detail::writeCoverageMap(*last_ground_, gt_floor_, gt_floor_body_, T_world_map_, gt_path_,
+                                     out_dir_ + "/coverage_map.png");
   return s_;
 }
 
@@ -229,6 +257,7 @@ void ExploreRun::onRobotStep()
 void ExploreRun::reportStep(const exploration::PlanResult& plan, double plan_ms)
 {
   const double coverage = plan.ground ? coverageOf(*plan.ground) : 0.0;
+  if (plan.ground) last_ground_ = plan.ground;
   writeCoverageRow(plan, coverage);
   if (cfg_.explore.write_step_images) writeStepImage(plan);
   if (quiet_) return;

@@ -79,7 +79,9 @@ class ExploreRun
   std::unique_ptr<navigation::StopAndScanDriver> driver_;
   mapping::SlamIcp slam_;
   mrpt::poses::CPose2D T_world_map_;  ///< the robot's true start pose
-  sim::ReachableFloor gt_floor_;
+  sim::ReachableFloor gt_floor_;       ///< reachable for the planner's collision radius (coverage_2d)
+  sim::ReachableFloor gt_floor_body_;  ///< reachable for the bare circumcircle (coverage_2d_circumradius)
+  std::shared_ptr<const exploration::GroundGrid> last_ground_;  ///< G of the last plan (coverage_map.png)
 
   // pose estimate between stops: SLAM pose at the last stop + odometry since
   mrpt::poses::CPose2D pose_at_stop_, odo_at_stop_;

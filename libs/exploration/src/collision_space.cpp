@@ -27,6 +27,84 @@ std::vector<double> squaredDistanceTo(const GroundGrid& g, GroundState source)
   return sq;
 }
 
+/// 1 for the Unknown cells that stand for unexplored space: not 4-adjacent
+/// to an Occupied cell (with `beside`: an unseen wall base hides at most the
+/// obstacle's next cell, which the sqrt(2) l_res of the radius covers), and
+/// in a 4-connected unknown pocket that is thicker than `depth_cells` or
+/// touches the grid border (thin pockets are wall interiors and the unseen
+/// backs of furniture, bounded by known space on all sides).
+std::vector<uint8_t> openUnknownMask(const GroundGrid& g, bool beside, double depth_cells)
+{
+  const int nx = static_cast<int>(g.state.getSizeX());
+  const int ny = static_cast<int>(g.state.getSizeY());
+  const std::size_t n = static_cast<std::size_t>(nx) * ny;
+  const auto& cells = g.state.data();
+  const auto unknown = [&](std::size_t i) { return cells[i] == GroundState::Unknown; };
+  std::vector<uint8_t> open(n, 0);
+  for (std::size_t i = 0; i < n; ++i) open[i] = unknown(i) ? 1 : 0;
+  if (beside)
+  {
+    const auto occ = [&](int x, int y)
+    {
+      return x >= 0 && y >= 0 && x < nx && y < ny &&
+             cells[static_cast<std::size_t>(y) * nx + x] == GroundState::Occupied;
+    };
+    for (int y = 0; y < ny; ++y)
+      for (int x = 0; x < nx; ++x)
+      {
+        const std::size_t i = static_cast<std::size_t>(y) * nx + x;
+        if (open[i] && (occ(x + 1, y) || occ(x - 1, y) || occ(x, y + 1) || occ(x, y - 1)))
+          open[i] = 0;
+      }
+  }
+  if (depth_cells <= 0 || n == 0) return open;
+  // Depth of every unknown cell: distance to the nearest known cell.
+  std::vector<double> sq(n);
+  for (std::size_t i = 0; i < n; ++i) sq[i] = unknown(i) ? common::kEdtFar : 0.0;
+  common::squaredDistanceTransform(sq, nx, ny);
+  const double depth2 = depth_cells * depth_cells;
+  std::vector<uint8_t> seen(n, 0);
+  std::vector<int> stack, pocket;
+  for (std::size_t seed = 0; seed < n; ++seed)
+  {
+    if (!unknown(seed) || seen[seed]) continue;
+    bool thick = false;
+    pocket.clear();
+    stack.assign(1, static_cast<int>(seed));
+    seen[seed] = 1;
+    while (!stack.empty())
+    {
+      const int i = stack.back();
+      stack.pop_back();
+      pocket.push_back(i);
+      const int x = i % nx, y = i / nx;
+      if (x == 0 || y == 0 || x == nx - 1 || y == ny - 1 || sq[i] > depth2) thick = true;
+      const int nb[4] = {x + 1 < nx ? i + 1 : -1, x > 0 ? i - 1 : -1, y + 1 < ny ? i + nx : -1,
+                         y > 0 ? i - nx : -1};
+      for (const int j : nb)
+        if (j >= 0 && !seen[j] && unknown(static_cast<std::size_t>(j)))
+        {
+          seen[j] = 1;
+          stack.push_back(j);
+        }
+    }
+    if (!thick)
+      for (const int i : pocket) open[i] = 0;
+  }
+  return open;
+}
+
+/// Squared distance (cells) to the nearest cell with mask[i] != 0.
+std::vector<double> squaredDistanceToMask(const GroundGrid& g, const std::vector<uint8_t>& mask)
+{
+  const int nx = static_cast<int>(g.state.getSizeX());
+  const int ny = static_cast<int>(g.state.getSizeY());
+  std::vector<double> sq(mask.size());
+  for (std::size_t i = 0; i < sq.size(); ++i) sq[i] = mask[i] ? 0.0 : common::kEdtFar;
+  if (nx > 0 && ny > 0) common::squaredDistanceTransform(sq, nx, ny);
+  return sq;
+}
+
 /// Clearance grid in metres (+inf where the grid holds no source cell).
 Grid<float> clearanceGrid(const Grid<GroundState>& like, const std::vector<double>& sq)
 {
@@ -48,12 +126,18 @@ void CollisionParams::loadFromConfigFile(const mrpt::config::CConfigFileBase& c,
                                          const std::string& s)
 {
   MRPT_LOAD_CONFIG_VAR(r_coll_m, double, c, s);
+  MRPT_LOAD_CONFIG_VAR(ignore_unknown_beside_obstacles, bool, c, s);
+  MRPT_LOAD_CONFIG_VAR(min_open_unknown_depth_m, double, c, s);
+  common::requireValid(min_open_unknown_depth_m >= 0, c, s, "min_open_unknown_depth_m",
+                       "must be >= 0");
   common::requireValid(r_coll_m >= 0, c, s, "r_coll_m", "must be >= 0");
 }
 
 void CollisionParams::saveToConfigFile(mrpt::config::CConfigFileBase& c, const std::string& s) const
 {
   MRPT_SAVE_CONFIG_VAR(r_coll_m, c, s);
+  MRPT_SAVE_CONFIG_VAR(ignore_unknown_beside_obstacles, c, s);
+  MRPT_SAVE_CONFIG_VAR(min_open_unknown_depth_m, c, s);
 }
 
 CollisionSpace computeCollisionSpace(const GroundGrid& g, const CollisionParams& p)
@@ -64,7 +148,9 @@ CollisionSpace computeCollisionSpace(const GroundGrid& g, const CollisionParams&
   cs.radius_m =
       p.r_coll_m + std::sqrt(2.0) * res;  // thesis 4.5.2: r_coll + sqrt(2) l_res (eq. 4.4)
   const std::vector<double> sq_occ = squaredDistanceTo(g, GroundState::Occupied);
-  const std::vector<double> sq_unk = squaredDistanceTo(g, GroundState::Unknown);
+  cs.open_unknown = openUnknownMask(g, p.ignore_unknown_beside_obstacles,
+                                    p.min_open_unknown_depth_m / res);
+  const std::vector<double> sq_unk = squaredDistanceToMask(g, cs.open_unknown);
   cs.clearance_occ_m = clearanceGrid(g.state, sq_occ);
   cs.clearance_unknown_m = clearanceGrid(g.state, sq_unk);
 

@@ -22,6 +22,7 @@ struct Search
 {
   int nx = 0, ny = 0;
   const SpaceState* space = nullptr;
+  const uint8_t* open_unknown = nullptr;  ///< CollisionSpace::open_unknown
   std::vector<double> dist;     ///< cells; < 0: not reached
   std::vector<uint8_t> escape;  ///< reached from a non-Free start through non-Free cells only
   bool free_settled = false;    ///< a Free cell has been settled: escaping stops
@@ -75,18 +76,22 @@ void runDijkstra(Search& s, int start)
   }
 }
 
-/// Reached Free/MaybeCollision cell with an Unknown (or off-grid) 4-neighbour.
+/// An open Unknown cell (CollisionSpace::open_unknown), or off the grid.
+bool isOpenUnknown(const Search& s, int x, int y)
+{
+  if (x < 0 || y < 0 || x >= s.nx || y >= s.ny) return true;  // off the grid: unknown
+  return s.open_unknown[x + y * s.nx] != 0;
+}
+
+/// Reached Free/MaybeCollision cell with an open Unknown (or off-grid)
+/// 4-neighbour.
 bool isFrontierCell(const Search& s, int i)
 {
   if (s.dist[i] < 0) return false;
   if (s.space[i] != SpaceState::Free && s.space[i] != SpaceState::MaybeCollision) return false;
   const int cx = i % s.nx, cy = i / s.nx;
   for (int k = 0; k < 4; ++k)
-  {
-    const int x = cx + kDx[k], y = cy + kDy[k];
-    if (x < 0 || y < 0 || x >= s.nx || y >= s.ny) return true;
-    if (s.space[x + y * s.nx] == SpaceState::Unknown) return true;
-  }
+    if (isOpenUnknown(s, cx + kDx[k], cy + kDy[k])) return true;
   return false;
 }
 
@@ -160,6 +165,8 @@ FrontierMap findFrontiers(const GroundGrid& g, const CollisionSpace& cs)
   s.ny = static_cast<int>(grid.getSizeY());
   ASSERTMSG_(inGrid(grid, g.robot.cx, g.robot.cy), "findFrontiers: the robot cell is off the grid");
   s.space = grid.data().data();
+  ASSERT_EQUAL_(cs.open_unknown.size(), grid.data().size());
+  s.open_unknown = cs.open_unknown.data();
   s.dist.assign(grid.data().size(), -1.0);
   s.escape.assign(grid.data().size(), 0);
   runDijkstra(s, g.robot.cx + g.robot.cy * s.nx);

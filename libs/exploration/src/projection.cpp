@@ -2,6 +2,7 @@
  * (thesis 4.5.1, algorithm 2). */
 #include <mrpt/config/CConfigFileBase.h>
 #include <mrpt/core/exceptions.h>
+#include <mrpt/core/format.h>
 #include <octomap/OcTree.h>
 #include <voxplore/common/config.h>
 #include <voxplore/exploration/stages.h>
@@ -153,7 +154,8 @@ ColumnTally tallyColumns(const octomap::OcTree& V, const KeyBox& box, double th_
 /// Algorithm 2, lines 2-17: 4-neighbour flood fill over the column states.
 /// A cell is marked when queued rather than when taken (same result as the
 /// "already processed" test of line 5, and each cell is queued once).
-void floodFill(const ColumnTally& tally, int levels, GroundGrid& G)
+void floodFill(const ColumnTally& tally, int levels, const std::vector<uint8_t>& outside,
+               GroundGrid& G)
 {
   const int nx = static_cast<int>(G.state.getSizeX());
   const int ny = static_cast<int>(G.state.getSizeY());
@@ -172,10 +174,12 @@ void floodFill(const ColumnTally& tally, int levels, GroundGrid& G)
   for (std::size_t head = 0; head < tail; ++head)
   {
     const int i = queue[head];
-    if (tally.occupied[i])
+    // The robot stands on its own column: free whatever the map says (the
+    // cameras are blind within ~1 m; an occupied voxel there is noise or a
+    // pose error), so the fill always starts. An occupied robot column used
+    // to leave G all unknown and end the exploration (willowgarage, step 36).
+    if (i != robot_i && (tally.occupied[i] || (!outside.empty() && outside[i])))
       state[i] = GroundState::Occupied;
-    // The robot stands on its own column: free even if the cameras (blind
-    // within ~1 m) never saw it, so the fill always has somewhere to start.
     else if (tally.free_count[i] < levels && i != robot_i)
       state[i] = GroundState::Unknown;
     else
@@ -189,6 +193,36 @@ void floodFill(const ColumnTally& tally, int levels, GroundGrid& G)
     }
   }
 }
+/// Even-odd crossing test of the point (x, y) against a simple polygon.
+bool insidePolygon(const std::vector<Eigen::Vector2d>& poly, double x, double y)
+{
+  bool in = false;
+  for (std::size_t i = 0, j = poly.size() - 1; i < poly.size(); j = i++)
+  {
+    const Eigen::Vector2d& a = poly[i];
+    const Eigen::Vector2d& b = poly[j];
+    if ((a.y() > y) != (b.y() > y) && x < (b.x() - a.x()) * (y - a.y()) / (b.y() - a.y()) + a.x())
+      in = !in;
+  }
+  return in;
+}
+
+/// 1 for every cell of G whose centre lies outside the region (empty: none).
+std::vector<uint8_t> outsideMask(const GroundGrid& G, const std::vector<Eigen::Vector2d>& region)
+{
+  if (region.empty()) return {};
+  const int nx = static_cast<int>(G.state.getSizeX());
+  const int ny = static_cast<int>(G.state.getSizeY());
+  std::vector<uint8_t> out(static_cast<std::size_t>(nx) * ny, 0);
+  for (int cy = 0; cy < ny; ++cy)
+  {
+    const double y = G.state.idx2y(cy);
+    for (int cx = 0; cx < nx; ++cx)
+      out[static_cast<std::size_t>(cy) * nx + cx] =
+          insidePolygon(region, G.state.idx2x(cx), y) ? 0 : 1;
+  }
+  return out;
+}
 }  // namespace
 
 void ProjectionParams::loadFromConfigFile(const mrpt::config::CConfigFileBase& c,
@@ -200,6 +234,20 @@ void ProjectionParams::loadFromConfigFile(const mrpt::config::CConfigFileBase& c
   MRPT_LOAD_CONFIG_VAR(th_occ, int, c, s);
   MRPT_LOAD_CONFIG_VAR(margin_m, double, c, s);
   using common::requireValid;
+  region.clear();
+  const std::string region_text = c.read_string(s, "region", "");
+  std::vector<double> v;
+  try
+  {
+    v = common::parseNumberList(region_text, "polygon vertices");
+  }
+  catch (const std::exception& e)
+  {
+    requireValid(false, c, s, "region", e.what());
+  }
+  requireValid(v.empty() || (v.size() >= 6 && v.size() % 2 == 0), c, s, "region",
+               "need x y pairs of at least 3 polygon vertices, or nothing");
+  for (std::size_t i = 0; i + 1 < v.size(); i += 2) region.emplace_back(v[i], v[i + 1]);
   requireValid(z_max_m > z_min_m, c, s, "z_max_m", "need z_max_m > z_min_m");
   requireValid(th_free >= 0 && th_free <= 255, c, s, "th_free", "need 0 <= th_free <= 255");
   requireValid(th_occ > th_free && th_occ <= 255, c, s, "th_occ", "need th_free < th_occ <= 255");
@@ -214,6 +262,9 @@ void ProjectionParams::saveToConfigFile(mrpt::config::CConfigFileBase& c,
   MRPT_SAVE_CONFIG_VAR(th_free, c, s);
   MRPT_SAVE_CONFIG_VAR(th_occ, c, s);
   MRPT_SAVE_CONFIG_VAR(margin_m, c, s);
+  std::string region_text;
+  for (const auto& q : region) region_text += mrpt::format("%s%.4f %.4f", region_text.empty() ? "" : " ", q.x(), q.y());
+  c.write(s, "region", region_text);
 }
 
 GroundGrid projectToGround(const octomap::OcTree& V, const mrpt::poses::CPose2D& robot,
@@ -246,7 +297,7 @@ GroundGrid projectToGround(const octomap::OcTree& V, const mrpt::poses::CPose2D&
   G.robot = {robot_key[0] - box.lo[0], robot_key[1] - box.lo[1]};
 
   const ColumnTally tally = tallyColumns(V, box, p.th_free / 255.0, p.th_occ / 255.0);
-  floodFill(tally, kz_hi - kz_lo + 1, G);
+  floodFill(tally, kz_hi - kz_lo + 1, outsideMask(G, p.region), G);
   return G;
 }
 

@@ -35,6 +35,10 @@ void DriverParams::loadFromConfigFile(const mrpt::config::CConfigFileBase& c, co
   MRPT_LOAD_CONFIG_VAR(blocked_timeout_s, double, c, s);
   MRPT_LOAD_CONFIG_VAR(progress_min_m, double, c, s);
   MRPT_LOAD_CONFIG_VAR(max_steps, int, c, s);
+  MRPT_LOAD_CONFIG_VAR(straight_fallback, bool, c, s);
+  MRPT_LOAD_CONFIG_VAR(escape_clearance_m, double, c, s);
+  MRPT_LOAD_CONFIG_VAR(escape_speed_mps, double, c, s);
+  MRPT_LOAD_CONFIG_VAR(escape_timeout_s, double, c, s);
   MRPT_LOAD_CONFIG_VAR_DEGREES(yaw_tolerance, c, s);
   MRPT_LOAD_CONFIG_VAR(yaw_gain, double, c, s);
   MRPT_LOAD_CONFIG_VAR(rotate_timeout_s, double, c, s);
@@ -64,6 +68,10 @@ void DriverParams::loadFromConfigFile(const mrpt::config::CConfigFileBase& c, co
   requireValid(blocked_timeout_s > 0, c, s, "blocked_timeout_s", "must be positive");
   requireValid(progress_min_m > 0, c, s, "progress_min_m", "must be positive");
   requireValid(max_steps > 0, c, s, "max_steps", "must be positive");
+  requireValid(escape_clearance_m >= 0, c, s, "escape_clearance_m", "must be >= 0");
+  requireValid(escape_speed_mps > 0 && escape_speed_mps <= max_v_mps, c, s, "escape_speed_mps",
+               "must be in (0, max_v_mps]");
+  requireValid(escape_timeout_s > 0, c, s, "escape_timeout_s", "must be positive");
   requireValid(yaw_tolerance > 0, c, s, "yaw_tolerance", "must be positive");
   requireValid(yaw_gain > 0 && yaw_gain * dt_s < 2.0, c, s, "yaw_gain",
                "must be positive and below 2 / dt_s (else the rotation oscillates)");
@@ -101,6 +109,10 @@ void DriverParams::saveToConfigFile(mrpt::config::CConfigFileBase& c, const std:
   MRPT_SAVE_CONFIG_VAR(blocked_timeout_s, c, s);
   MRPT_SAVE_CONFIG_VAR(progress_min_m, c, s);
   MRPT_SAVE_CONFIG_VAR(max_steps, c, s);
+  MRPT_SAVE_CONFIG_VAR(straight_fallback, c, s);
+  MRPT_SAVE_CONFIG_VAR(escape_clearance_m, c, s);
+  MRPT_SAVE_CONFIG_VAR(escape_speed_mps, c, s);
+  MRPT_SAVE_CONFIG_VAR(escape_timeout_s, c, s);
   MRPT_SAVE_CONFIG_VAR_DEGREES(yaw_tolerance, c, s);
   MRPT_SAVE_CONFIG_VAR(yaw_gain, c, s);
   MRPT_SAVE_CONFIG_VAR(rotate_timeout_s, c, s);

@@ -103,7 +103,7 @@ bool RobotNavAdapter::senseObstacles(mrpt::maps::CSimplePointsMap& obstacles,
     return false;
   }
   // Thin out: height band, range, one point per XY cell (first come, first kept).
-  std::unordered_set<std::int64_t> cells;
+  std::unordered_set<std::uint64_t> cells;
   const auto& xs = raw_.getPointsBufferRef_x();
   const auto& ys = raw_.getPointsBufferRef_y();
   const auto& zs = raw_.getPointsBufferRef_z();
@@ -116,7 +116,10 @@ bool RobotNavAdapter::senseObstacles(mrpt::maps::CSimplePointsMap& obstacles,
     {
       const auto cx = static_cast<std::int64_t>(std::floor(x / cell_m_));
       const auto cy = static_cast<std::int64_t>(std::floor(y / cell_m_));
-      if (!cells.insert((cx << 32) ^ (cy & 0xffffffff)).second) continue;
+      // Unsigned shift: shifting a negative signed value left is UB (UBSan).
+      const std::uint64_t key =
+          (static_cast<std::uint64_t>(cx) << 32) ^ (static_cast<std::uint64_t>(cy) & 0xffffffffu);
+      if (!cells.insert(key).second) continue;
     }
     obstacles.insertPoint(static_cast<float>(x), static_cast<float>(y), static_cast<float>(z));
   }

@@ -280,7 +280,7 @@ std::vector<VoxelIndex> occupiedVoxels(const TriangleMesh& mesh, double res_m, d
 
 ReachableFloor reachableFreeFloor(const World& world, const CollisionChecker& checker,
                                   const mrpt::poses::CPose2D& start, double robot_radius_m,
-                                  double res_m)
+                                  double res_m, const Eigen::AlignedBox2d* region)
 {
   ASSERTMSG_(res_m > 0, mrpt::format("reachableFreeFloor: resolution must be > 0, got %g", res_m));
   ASSERTMSG_(robot_radius_m >= 0,
@@ -288,6 +288,10 @@ ReachableFloor reachableFreeFloor(const World& world, const CollisionChecker& ch
   ReachableFloor r;
   r.obstacle = makeFloorGrid(world, start, res_m);
   markObstacles(checker, r.obstacle);
+  if (region)
+    for (int iy = 0; iy < r.obstacle.ny; ++iy)
+      for (int ix = 0; ix < r.obstacle.nx; ++ix)
+        if (!region->contains(r.obstacle.center(ix, iy))) r.obstacle.at(ix, iy) = 1;
   r.reachable = emptyGridLike(r.obstacle);
   r.free_floor = emptyGridLike(r.obstacle);
   const FloorGrid& obs = r.obstacle;
@@ -319,6 +323,17 @@ ReachableFloor reachableFreeFloor(const World& world, const CollisionChecker& ch
   r.reachable_area_m2 = area(r.reachable);
   r.free_floor_area_m2 = area(r.free_floor);
   return r;
+}
+
+Eigen::AlignedBox2d obstacleBounds(const CollisionChecker& checker)
+{
+  Eigen::AlignedBox2d b;  // empty
+  for (const ConvexPolygon2D& p : checker.obstacles())
+  {
+    b.extend(Eigen::Vector2d(p.min.x(), p.min.y()));
+    b.extend(Eigen::Vector2d(p.max.x(), p.max.y()));
+  }
+  return b;
 }
 
 }  // namespace voxplore::sim

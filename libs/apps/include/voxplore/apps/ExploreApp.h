@@ -22,6 +22,11 @@ struct ExploreParams : public mrpt::config::CLoadableOptions
   double gt_floor_res_m = 0.05;     ///< resolution of the ground-truth free floor (coverage_2d) [m]
   double band_z_min_m = 0.10;       ///< coverage_3d: ground-truth surface voxels from this height [m]
   double band_z_max_m = 0.60;       ///< ... up to this height (the cameras' band) [m]
+  /// Bound the exploration and the ground-truth free floor to the world's
+  /// obstacle bounding box (a building open to the outside, e.g. a mesh on an
+  /// added ground plane, is explored inside its own extent, not forever out
+  /// into the yard); sets [projection] region in the map frame.
+  bool region_from_world = true;
 
   /// @brief The section name this struct reads.
   static const char* section() { return "explore"; }
@@ -64,6 +69,8 @@ struct ExploreSummary
   double ate_rmse_m = 0;           ///< absolute trajectory error of the SLAM poses at stops [m]
   double compute_s = 0;            ///< wall time of SLAM + planning [s]
   double sim_time_s = 0;           ///< simulated time [s]
+  double coverage_2d_circumradius = 0;  ///< coverage_2d of the floor the bare circumcircle reaches (passages narrower than the planner's radius included)
+  double peak_rss_mb = 0;          ///< peak resident memory of the process (VmHWM) [MiB]
 };
 
 /// @brief voxplore-explore: scan, SlamIcp, plan, drive waypoint by waypoint

@@ -22,7 +22,12 @@ namespace voxplore::apps
 /// seen, table tops (0.71 m and up) pass over the robot.
 struct SimObstacleSensor
 {
-  std::vector<double> heights_m = {0.10, 0.30, 0.50};  ///< ray heights above the floor [m]
+  /// Ray heights above the floor [m]: every 0.1 m from just above the floor
+  /// clearance to just below the robots' top (0.645 / 0.65 m), so that a
+  /// table top or shelf anywhere in the robot's slab is seen (with layers at
+  /// 0.10/0.30/0.50 only, the compact robot drove into a table top at ~0.6 m
+  /// in turtlebot3_house).
+  std::vector<double> heights_m = {0.05, 0.15, 0.25, 0.35, 0.45, 0.55, 0.62};
   int rays_per_layer = 720;  ///< rays per 360 deg (0.5 deg apart: 4 cm legs seen to 4.5 m)
   double max_range_m = 6.0;  ///< farther hits are dropped [m]
 };

@@ -28,6 +28,10 @@ struct ProjectionParams : public mrpt::config::CLoadableOptions
   int th_free = 70;       ///< free below (0..255 scale, p = value/255)
   int th_occ = 240;       ///< occupied above (0..255 scale)
   double margin_m = 1.0;  ///< grid extends this far past the map's bounds [m]
+  /// Exploration region (ini key "region": x0 y0 x1 y1 x2 y2 ..., a simple
+  /// polygon in the map frame [m]); columns outside it are Occupied (virtual
+  /// walls: no frontier, no sample, no path leaves it). Empty: unbounded.
+  std::vector<Eigen::Vector2d> region;
   void loadFromConfigFile(const mrpt::config::CConfigFileBase& c, const std::string& s) override;
   void saveToConfigFile(mrpt::config::CConfigFileBase& c, const std::string& s) const override;
 };
@@ -43,8 +47,9 @@ struct GroundGrid
 ///        [z_min, z_max] of V; a column is occupied if any voxel > th_occ,
 ///        unknown if any voxel is >= th_free or has never been observed,
 ///        else free (and its 4 neighbours are queued). The robot's own
-///        column counts as free unless occupied (the robot stands there; the
-///        cameras cannot see it). Cells the fill does not reach stay Unknown. The grid covers V's bounds plus margin and
+///        column counts as free, even when occupied (the robot stands there;
+///        the cameras cannot see it). Columns outside p.region (when set) are
+///        Occupied. Cells the fill does not reach stay Unknown. The grid covers V's bounds plus margin and
 ///        the robot; its resolution is V's.
 GroundGrid projectToGround(
     const octomap::OcTree& V, const mrpt::poses::CPose2D& robot, const ProjectionParams& p);
@@ -54,6 +59,15 @@ GroundGrid projectToGround(
 struct CollisionParams : public mrpt::config::CLoadableOptions
 {
   double r_coll_m = 0.698;  ///< robot collision radius sqrt((l/2)^2 + (w/2)^2) (omniRob) [m]
+  /// Unknown cells 4-adjacent to an occupied cell (unseen wall bases) make
+  /// no MaybeCollision disc (it closes narrow corridors); the obstacle's own
+  /// Collision band covers them. false = thesis 4.5.2.
+  bool ignore_unknown_beside_obstacles = true;
+  /// Unknown pockets in which no cell lies deeper than this from known space
+  /// (and that do not touch the grid border) are closed: wall interiors, the
+  /// unseen backs of furniture. Closed unknown makes no MaybeCollision and no
+  /// frontier. 0 = every unknown cell is open (thesis) [m].
+  double min_open_unknown_depth_m = 0.10;
   void loadFromConfigFile(const mrpt::config::CConfigFileBase& c, const std::string& s) override;
   void saveToConfigFile(mrpt::config::CConfigFileBase& c, const std::string& s) const override;
 };
@@ -65,6 +79,10 @@ struct CollisionSpace
   Grid<float> clearance_occ_m;      ///< distance from the cell centre to the nearest occupied cell centre [m]
   Grid<float> clearance_unknown_m;  ///< ... to the nearest unknown cell centre [m]
   double radius_m = 0;              ///< r_coll + sqrt(2) l_res, the radius used
+  /// Row-major over `state`: 1 for the Unknown cells that stand for
+  /// unexplored space (CollisionParams: not beside an obstacle, not in a thin
+  /// closed pocket); the sources of MaybeCollision and of frontiers.
+  std::vector<uint8_t> open_unknown;
 };
 
 /// @brief thesis 4.5.2 with exact Euclidean distance transforms (no per-cell
@@ -94,8 +112,9 @@ struct FrontierMap
 
 /// @brief thesis 4.5.3: BFS from the robot over Free cells (reachable space),
 ///        continued one band into MaybeCollision cells; frontier cells are
-///        reached Free/MaybeCollision cells with an Unknown 4-neighbour,
-///        grouped 8-connected. Distances: 8-connected BFS, 1 per straight
+///        reached Free/MaybeCollision cells with an open Unknown 4-neighbour
+///        (CollisionSpace::open_unknown: unseen wall bases and thin closed
+///        pockets are no frontier), grouped 8-connected. Distances: 8-connected BFS, 1 per straight
 ///        step and sqrt(2) per diagonal (Dijkstra on the grid).
 FrontierMap findFrontiers(const GroundGrid& g, const CollisionSpace& cs);
 

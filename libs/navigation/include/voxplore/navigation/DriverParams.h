@@ -35,6 +35,13 @@ struct DriverParams : public mrpt::config::CLoadableOptions
   double progress_min_m = 0.05;  ///< progress = the best distance to the goal shrank this much [m]
   int max_steps = 3000;          ///< hard limit of navigation steps per waypoint (never hangs)
 
+  bool straight_fallback = true;     ///< when MRPT's navigator stalls, drive straight if the way is free (driveStraight)
+
+  // --- recovery when pinned (no progress with obstacles at the robot's circle) ---
+  double escape_clearance_m = 0.10;  ///< back off until the nearest obstacle is this far past robotRadius() [m]; 0 = no recovery
+  double escape_speed_mps = 0.10;    ///< back-off speed [m/s]
+  double escape_timeout_s = 4.0;     ///< longest back-off [s]
+
   // --- final rotation to the requested yaw (P-controller) ---
   double yaw_tolerance = mrpt::DEG2RAD(2.0);  ///< final yaw error accepted [rad] (ini: deg)
   double yaw_gain = 2.0;                      ///< turn rate per radian of yaw error [1/s]

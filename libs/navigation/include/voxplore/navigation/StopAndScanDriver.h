@@ -75,6 +75,29 @@ class StopAndScanDriver
   ///         Error on a collision.
   DriveResult rotateTo(double yaw_rad);
 
+  /// @brief Fallback when MRPT's navigator stalls (our own: CHolonomicND
+  ///        commands zero velocity in 1.1 m corridors and doorways with a
+  ///        free circle around the robot; measured in turtlebot3_house):
+  ///        drives straight at the waypoint (holonomic, no turning) while
+  ///        no sensed obstacle point in the height band lies within
+  ///        robotRadius() of the straight segment still to go, slowing down
+  ///        over the last 0.3 m.
+  /// @return Reached within goal_tolerance_m; Blocked when the segment is
+  ///         not free or no progress for blocked_timeout_s; Timeout after
+  ///         timeout_s; Error on a sensor failure or a collision.
+  DriveResult driveStraight(const Eigen::Vector2d& waypoint);
+
+  /// @brief Recovery of a pinned robot (our own: MRPT's reactive navigator
+  ///        stands still for ever once an obstacle point is at its circle):
+  ///        backs off at escape_speed_mps along the sum of the repulsions of
+  ///        the sensed obstacle points within robotRadius() +
+  ///        escape_clearance_m, until none is that close, the repulsions
+  ///        cancel out (pinched from both sides), escape_timeout_s, or a
+  ///        collision. Does nothing when escape_clearance_m is 0.
+  /// @return Reached when clear (also when already clear), Blocked when it
+  ///         could not get clear, Error on a sensor failure or collision.
+  DriveResult escape();
+
   const DriverParams& params() const { return params_; }
 
  private:

@@ -6,6 +6,7 @@
 #include <voxplore/sim/World.h>
 
 #include <Eigen/Core>
+#include <Eigen/Geometry>
 #include <cstdint>
 #include <string>
 #include <vector>
@@ -54,9 +55,16 @@ struct ReachableFloor
 /// @brief Computes the free floor reachable from `start` for a robot of radius
 ///        `robot_radius_m`: obstacle cells from the checker's slab (distance
 ///        transform, no per-cell disc loop), then a flood fill from the start cell.
+///        With `region`, cells whose centre lies outside it count as obstacles
+///        (a building open to the outside: only the floor inside counts).
 ReachableFloor reachableFreeFloor(
     const World& world, const CollisionChecker& checker, const mrpt::poses::CPose2D& start,
-    double robot_radius_m, double res_m = 0.05);
+    double robot_radius_m, double res_m = 0.05, const Eigen::AlignedBox2d* region = nullptr);
+
+/// @brief The XY bounding box of everything the robot can collide with (the
+///        checker's obstacle slab): the building's extent without a ground
+///        plane that reaches past it. Empty box when there is no obstacle.
+Eigen::AlignedBox2d obstacleBounds(const CollisionChecker& checker);
 
 /// @brief Renders a top view of the world (height-coloured; obstacles between
 ///        floor and robot height dark) as a PNG, optionally with a trajectory
