@@ -22,6 +22,10 @@ PACKAGES=(
   libembree-dev libassimp-dev nlohmann-json3-dev
   # tests and benchmarks
   libgtest-dev libgmock-dev libbenchmark-dev
+  # CI stage 3 (scripts/fuzz.sh): clang with libFuzzer (libclang_rt.fuzzer in
+  # libclang-rt-14-dev) and llvm-symbolizer (llvm-14) for readable stack traces.
+  # Stage 2 (scripts/sanitize.sh) uses g++'s libasan/libubsan.
+  clang-14 libclang-rt-14-dev llvm-14
 )
 
 missing=()
