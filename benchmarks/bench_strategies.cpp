@@ -134,7 +134,10 @@ void runStrategiesTable(const StrategyBenchOptions& opts, std::ostream& out)
                {"compute nearest [s]", "compute_nearest_s"},
                {"end nbv", "termination_nbv"},
                {"end nearest", "termination_nearest"},
-               {"collisions nbv/nearest", "collisions"}});
+               {"collisions nbv/nearest", "collisions"},
+               {"coverage circumradius nbv/nearest", "coverage_2d_circumradius"},
+               {"min clearance nbv/nearest [m]", "min_clearance_m"},
+               {"ATE nbv/nearest [m]", "ate_rmse_m"}});
   for (const auto& w : benchWorlds(opts))
   {
     const auto a = explore(opts, w, "nbv");
@@ -152,7 +155,10 @@ void runStrategiesTable(const StrategyBenchOptions& opts, std::ostream& out)
                             ratio(b.path_length_m, b.coverage_2d))),
               cell(a, a.coverage_2d, 3), cell(b, b.coverage_2d, 3), cell(a, a.compute_s, 1),
               cell(b, b.compute_s, 1), a.termination_reason, b.termination_reason,
-              std::to_string(a.collisions) + "/" + std::to_string(b.collisions)});
+              std::to_string(a.collisions) + "/" + std::to_string(b.collisions),
+              cell(a, a.coverage_2d_circumradius, 3) + "/" + cell(b, b.coverage_2d_circumradius, 3),
+              cell(a, a.min_clearance_m, 3) + "/" + cell(b, b.min_clearance_m, 3),
+              cell(a, a.ate_rmse_m, 3) + "/" + cell(b, b.ate_rmse_m, 3)});
   }
   out << "\nExploration strategies end to end (issue 5): voxplore-explore's loop with "
          "--strategy nbv (next best view, thesis) beside nearest (nearest frontier's "

@@ -192,6 +192,39 @@ TEST(Projection, OccupiedRobotColumnStillStartsTheFill)
   EXPECT_GT(free_cells, 6000u);  // the 4 x 4 m known floor
 }
 
+// The robot stands 1.5 m past the known floor in a ring its cameras never
+// saw (stops not integrated): alone its column is an island; the path its
+// body swept ties it back to the map.
+TEST(Projection, SweptPathTiesTheRobotToTheKnownFloor)
+{
+  octomap::OcTree t(0.05);
+  fillBox(t, -2.0, 0.0, -1.0, 1.0, 0.0, 0.6, freeLog(t));
+  fillBox(t, 2.5, 3.5, -1.0, 1.0, 0.0, 0.6, freeLog(t));  // seen from the robot beyond its blind ring
+  const CPose2D robot(1.5, 0.0, 0);
+  const auto freeCells = [](const GroundGrid& g)
+  {
+    std::size_t n = 0;
+    for (const auto s : g.state) n += s == GroundState::Free;
+    return n;
+  };
+  ProjectionParams p;
+  const GroundGrid alone = projectToGround(t, robot, p);
+  EXPECT_EQ(freeCells(alone), 1u);
+  std::vector<Eigen::Vector2d> swept;
+  for (double x = -1.0; x <= 1.5 + 1e-9; x += 0.05) swept.emplace_back(x, 0.02 * std::sin(4 * x));
+  const GroundGrid g = projectToGround(t, robot, p, swept);
+  EXPECT_GT(freeCells(g), 1600u);  // the 2 x 2 m known floor, the swept strip
+  Cell c;
+  ASSERT_TRUE(cellOf(g.state, Eigen::Vector2d(-1.5, 0.5), c));
+  EXPECT_EQ(*g.state.cellByIndex(c.cx, c.cy), GroundState::Free);
+  ASSERT_TRUE(cellOf(g.state, Eigen::Vector2d(0.8, 0.4), c));  // beside the strip: unseen
+  EXPECT_EQ(*g.state.cellByIndex(c.cx, c.cy), GroundState::Unknown);
+  ASSERT_TRUE(cellOf(g.state, Eigen::Vector2d(3.0, 0.0), c));  // not connected to the strip
+  EXPECT_EQ(*g.state.cellByIndex(c.cx, c.cy), GroundState::Unknown);
+  p.swept_radius_m = 0;  // off
+  EXPECT_EQ(freeCells(projectToGround(t, robot, p, swept)), 1u);
+}
+
 TEST(Projection, GridAlignsWithVoxelColumnsAndCoversMarginAndRobot)
 {
   octomap::OcTree t(0.05);

@@ -229,7 +229,8 @@ void ExploreRun::finish()
   const double res = cfg_.slam.octomap.l_res_m;
   const mrpt::poses::CPose3D T_world_map3(T_world_map_);
   const auto ground =
-      exploration::projectToGround(slam_.octomap().tree(), slam_.currentPose(), cfg_.planner.projection);
+      exploration::projectToGround(slam_.octomap().tree(), slam_.currentPose(),
+                                   cfg_.planner.projection, swept_);
   s_.coverage_2d = coverageOf(ground);
   s_.coverage_2d_circumradius =
       explore_detail::coverage2d(ground, gt_floor_body_.free_floor, T_world_map_);

@@ -126,7 +126,7 @@ void ExploreRun::loop()
     }
     const auto t0 = std::chrono::steady_clock::now();
     const auto plan = exploration::plan(slam_.octomap().tree(), slam_.currentPose(), cfg_.planner,
-                                        blacklist_, step);
+                                        blacklist_, step, swept_);
     const double plan_s = secondsSince(t0);
     compute_s_ += plan_s;
     s_.steps = step + 1;
@@ -163,6 +163,7 @@ void ExploreRun::scanAndIntegrate()
   est_tum_->write(t, mrpt::poses::CPose3D(rep.pose));
   pose_at_stop_ = rep.pose;
   odo_at_stop_ = robot_.odometry();
+  addSwept({rep.pose.x(), rep.pose.y()});
   s_.stops = slam_.numStops();
   for (const auto& w : rep.warnings)
     std::cerr << "voxplore-explore: warning: stop " << rep.index << ": " << w << std::endl;
@@ -238,8 +239,27 @@ void ExploreRun::registerPlan(const Eigen::Vector2d& target)
   }
 }
 
+void ExploreRun::addSwept(const Eigen::Vector2d& e)
+{
+  // The swept path in the pose estimate, 5 cm apart and continuous across
+  // the jump of a SLAM correction at a stop (the body's true path is
+  // continuous; either side of the jump is within the pose error).
+  if (swept_.empty())
+  {
+    swept_.push_back(e);
+    return;
+  }
+  const double d = (e - swept_.back()).norm();
+  if (d < 0.05) return;
+  const Eigen::Vector2d from = swept_.back();
+  const int n = static_cast<int>(std::ceil(d / 0.05));
+  for (int k = 1; k <= n; ++k) swept_.push_back(from + (e - from) * (double(k) / n));
+}
+
 void ExploreRun::onRobotStep()
 {
+  const auto est = robot_.pose();  // the estimate the navigator drives by
+  addSwept({est.x(), est.y()});
   const auto& p = sim_.robot().groundTruth();
   const auto& q = gt_path_.back();
   const double d = std::hypot(p.x() - q.x(), p.y() - q.y());

@@ -61,6 +61,8 @@ class ExploreRun
   /// Counts a plan for the frontier at `target`; blacklists it after max_plans_per_target.
   void registerPlan(const Eigen::Vector2d& target);
   void onRobotStep();
+  /// Appends an estimated robot position to swept_ (interpolated 5 cm apart).
+  void addSwept(const Eigen::Vector2d& e);
   void reportStep(const exploration::PlanResult& plan, double plan_ms);
   // --- outputs and metrics (ExploreApp_outputs.cpp) ---
   void openOutputs();
@@ -89,6 +91,7 @@ class ExploreRun
   std::vector<Eigen::Vector2d> blacklist_;
   std::vector<std::pair<Eigen::Vector2d, int>> failures_;
   std::vector<std::pair<Eigen::Vector2d, int>> plans_;  ///< frontier centre -> plans so far
+  std::vector<Eigen::Vector2d> swept_;  ///< estimated robot positions (map frame), 5 cm apart
   std::vector<mrpt::poses::CPose2D> gt_path_;  ///< true poses, every robot step that moved
   double compute_s_ = 0, slam_ms_step_ = 0;
   ExploreSummary s_;

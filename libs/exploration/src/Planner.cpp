@@ -143,11 +143,12 @@ bool tryFrontier(
 
 PlanResult plan(
     const octomap::OcTree& V, const CPose2D& robot, const PlannerParams& p,
-    const std::vector<Eigen::Vector2d>& blacklist, uint64_t step)
+    const std::vector<Eigen::Vector2d>& blacklist, uint64_t step,
+    const std::vector<Eigen::Vector2d>& swept)
 {
   PlanResult r;
   mrpt::system::CTicTac total, tic;
-  auto ground = std::make_shared<GroundGrid>(projectToGround(V, robot, p.projection));
+  auto ground = std::make_shared<GroundGrid>(projectToGround(V, robot, p.projection, swept));
   r.ms.projection = 1e3 * tic.Tac();
   tic.Tic();
   auto space = std::make_shared<CollisionSpace>(computeCollisionSpace(*ground, p.collision));

@@ -155,7 +155,7 @@ ColumnTally tallyColumns(const octomap::OcTree& V, const KeyBox& box, double th_
 /// A cell is marked when queued rather than when taken (same result as the
 /// "already processed" test of line 5, and each cell is queued once).
 void floodFill(const ColumnTally& tally, int levels, const std::vector<uint8_t>& outside,
-               GroundGrid& G)
+               const std::vector<uint8_t>& swept, GroundGrid& G)
 {
   const int nx = static_cast<int>(G.state.getSizeX());
   const int ny = static_cast<int>(G.state.getSizeY());
@@ -180,7 +180,7 @@ void floodFill(const ColumnTally& tally, int levels, const std::vector<uint8_t>&
     // to leave G all unknown and end the exploration (willowgarage, step 36).
     if (i != robot_i && (tally.occupied[i] || (!outside.empty() && outside[i])))
       state[i] = GroundState::Occupied;
-    else if (tally.free_count[i] < levels && i != robot_i)
+    else if (tally.free_count[i] < levels && i != robot_i && (swept.empty() || !swept[i]))
       state[i] = GroundState::Unknown;
     else
     {
@@ -205,6 +205,27 @@ bool insidePolygon(const std::vector<Eigen::Vector2d>& poly, double x, double y)
       in = !in;
   }
   return in;
+}
+
+/// 1 for every cell of G within `radius` of a swept point (empty: none).
+std::vector<uint8_t> sweptMask(const GroundGrid& G, const std::vector<Eigen::Vector2d>& swept,
+                               double radius)
+{
+  if (swept.empty() || radius <= 0) return {};
+  const int nx = static_cast<int>(G.state.getSizeX());
+  const int ny = static_cast<int>(G.state.getSizeY());
+  const double res = G.state.getResolution();
+  const int r = static_cast<int>(std::ceil(radius / res));
+  std::vector<uint8_t> out(static_cast<std::size_t>(nx) * ny, 0);
+  for (const auto& q : swept)
+  {
+    const int cx = G.state.x2idx(q.x()), cy = G.state.y2idx(q.y());
+    for (int y = std::max(0, cy - r); y <= std::min(ny - 1, cy + r); ++y)
+      for (int x = std::max(0, cx - r); x <= std::min(nx - 1, cx + r); ++x)
+        if (std::hypot(G.state.idx2x(x) - q.x(), G.state.idx2y(y) - q.y()) <= radius)
+          out[static_cast<std::size_t>(y) * nx + x] = 1;
+  }
+  return out;
 }
 
 /// 1 for every cell of G whose centre lies outside the region (empty: none).
@@ -233,7 +254,9 @@ void ProjectionParams::loadFromConfigFile(const mrpt::config::CConfigFileBase& c
   MRPT_LOAD_CONFIG_VAR(th_free, int, c, s);
   MRPT_LOAD_CONFIG_VAR(th_occ, int, c, s);
   MRPT_LOAD_CONFIG_VAR(margin_m, double, c, s);
+  MRPT_LOAD_CONFIG_VAR(swept_radius_m, double, c, s);
   using common::requireValid;
+  requireValid(swept_radius_m >= 0, c, s, "swept_radius_m", "must be >= 0");
   region.clear();
   const std::string region_text = c.read_string(s, "region", "");
   std::vector<double> v;
@@ -262,13 +285,14 @@ void ProjectionParams::saveToConfigFile(mrpt::config::CConfigFileBase& c,
   MRPT_SAVE_CONFIG_VAR(th_free, c, s);
   MRPT_SAVE_CONFIG_VAR(th_occ, c, s);
   MRPT_SAVE_CONFIG_VAR(margin_m, c, s);
+  MRPT_SAVE_CONFIG_VAR(swept_radius_m, c, s);
   std::string region_text;
   for (const auto& q : region) region_text += mrpt::format("%s%.4f %.4f", region_text.empty() ? "" : " ", q.x(), q.y());
   c.write(s, "region", region_text);
 }
 
 GroundGrid projectToGround(const octomap::OcTree& V, const mrpt::poses::CPose2D& robot,
-                           const ProjectionParams& p)
+                           const ProjectionParams& p, const std::vector<Eigen::Vector2d>& swept)
 {
   const double res = V.getResolution();
   octomap::OcTreeKey robot_key;
@@ -297,7 +321,8 @@ GroundGrid projectToGround(const octomap::OcTree& V, const mrpt::poses::CPose2D&
   G.robot = {robot_key[0] - box.lo[0], robot_key[1] - box.lo[1]};
 
   const ColumnTally tally = tallyColumns(V, box, p.th_free / 255.0, p.th_occ / 255.0);
-  floodFill(tally, kz_hi - kz_lo + 1, outsideMask(G, p.region), G);
+  floodFill(tally, kz_hi - kz_lo + 1, outsideMask(G, p.region),
+            sweptMask(G, swept, p.swept_radius_m), G);
   return G;
 }
 

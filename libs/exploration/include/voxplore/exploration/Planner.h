@@ -81,9 +81,12 @@ struct PlanResult
 
 /// @brief Runs every stage. Deterministic: the sampler is seeded with
 ///        params.seed and the step counter passed in.
+/// @param swept points the robot's centre has swept (map frame; see
+///        ProjectionParams::swept_radius_m)
 PlanResult plan(
     const octomap::OcTree& V, const mrpt::poses::CPose2D& robot, const PlannerParams& params,
-    const std::vector<Eigen::Vector2d>& blacklist = {}, uint64_t step = 0);
+    const std::vector<Eigen::Vector2d>& blacklist = {}, uint64_t step = 0,
+    const std::vector<Eigen::Vector2d>& swept = {});
 
 /// @brief PNG of G with its layers in the thesis' colours (fig. 4.12): free
 ///        white, occupied black, unknown red, collision grey, maybe-collision

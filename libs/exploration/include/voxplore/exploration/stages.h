@@ -32,6 +32,12 @@ struct ProjectionParams : public mrpt::config::CLoadableOptions
   /// polygon in the map frame [m]); columns outside it are Occupied (virtual
   /// walls: no frontier, no sample, no path leaves it). Empty: unbounded.
   std::vector<Eigen::Vector2d> region;
+  /// Columns within this distance of a point the robot's centre has swept
+  /// (projectToGround's `swept`) count as free unless occupied: the robot's
+  /// body was there. It ties the robot to the known map where the cameras,
+  /// blind within ~1 m, left a ring of unknown round it (after stops that
+  /// were not integrated). 0 = off [m].
+  double swept_radius_m = 0.15;
   void loadFromConfigFile(const mrpt::config::CConfigFileBase& c, const std::string& s) override;
   void saveToConfigFile(mrpt::config::CConfigFileBase& c, const std::string& s) const override;
 };
@@ -52,7 +58,8 @@ struct GroundGrid
 ///        Occupied. Cells the fill does not reach stay Unknown. The grid covers V's bounds plus margin and
 ///        the robot; its resolution is V's.
 GroundGrid projectToGround(
-    const octomap::OcTree& V, const mrpt::poses::CPose2D& robot, const ProjectionParams& p);
+    const octomap::OcTree& V, const mrpt::poses::CPose2D& robot, const ProjectionParams& p,
+    const std::vector<Eigen::Vector2d>& swept = {});
 
 // ------------------------------------------------------------ 2. collision space
 /// @brief ini section [collision].
