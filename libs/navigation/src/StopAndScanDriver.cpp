@@ -13,11 +13,13 @@
 #include <utility>
 
 #include "RobotNavAdapter.h"
+#include "drive_log.h"
 
 namespace voxplore::navigation
 {
 using mrpt::nav::CAbstractNavigator;
 using mrpt::poses::CPose2D;
+using namespace detail;
 
 const char* toString(DriveOutcome o)
 {
@@ -37,58 +39,6 @@ const char* toString(DriveOutcome o)
 
 namespace
 {
-using Ending = std::optional<std::pair<DriveOutcome, std::string>>;
-
-double seconds(const RobotInterface& robot)
-{
-  return mrpt::Clock::toDouble(robot.now());
-}
-
-std::size_t collisionsOf(const RobotInterface& robot)
-{
-  return robot.collisionCount().value_or(0);
-}
-
-double distanceTo(const CPose2D& p, const Eigen::Vector2d& goal)
-{
-  return std::hypot(goal.x() - p.x(), goal.y() - p.y());
-}
-
-// Bookkeeping of one drive: path length, progress, collisions.
-struct DriveLog
-{
-  double t0_s = 0, best_dist_m = 0, t_best_s = 0, path_m = 0;
-  std::size_t steps = 0, collisions0 = 0;
-  int target_blocked_steps = 0;  ///< consecutive steps with an obstacle at the target
-  CPose2D last;
-
-  DriveLog(const RobotInterface& robot, double dist_m)
-      : t0_s(seconds(robot)),
-        best_dist_m(dist_m),
-        t_best_s(t0_s),
-        collisions0(collisionsOf(robot)),
-        last(robot.pose())
-  {
-  }
-
-  void afterStep(const RobotInterface& robot)
-  {
-    steps++;
-    const CPose2D p = robot.pose();
-    path_m += std::hypot(p.x() - last.x(), p.y() - last.y());
-    last = p;
-  }
-
-  void fill(DriveResult& r, const RobotInterface& robot) const
-  {
-    r.final_pose = robot.pose();
-    r.distance_m += path_m;
-    r.sim_time_s += seconds(robot) - t0_s;
-    r.steps += steps;
-    r.collisions += collisionsOf(robot) - collisions0;
-  }
-};
-
 // CReactiveNavigationSystem whose delay statistics (CAbstractNavigator's
 // always-enabled m_timlog_delays) are not dumped to the console on destruction.
 class QuietReactiveNavigator : public mrpt::nav::CReactiveNavigationSystem
@@ -206,7 +156,10 @@ Ending targetBlockedEnding(const RobotNavAdapter& adapter, const DriverParams& p
                     r_m)}};
 }
 
-// Collisions, progress, time and step limits after one RobotInterface::step().
+}  // namespace
+
+namespace detail
+{
 Ending checkAfterStep(const RobotInterface& robot, const DriverParams& params, DriveLog& log,
                       const Eigen::Vector2d& waypoint)
 {
@@ -230,7 +183,7 @@ Ending checkAfterStep(const RobotInterface& robot, const DriverParams& params, D
     return {{DriveOutcome::Timeout, mrpt::format("hit max_steps = %d", params.max_steps)}};
   return std::nullopt;
 }
-}  // namespace
+}  // namespace detail
 
 DriveResult StopAndScanDriver::driveTo(const Eigen::Vector2d& waypoint,
                                        std::optional<double> final_yaw_rad)
@@ -316,120 +269,6 @@ DriveResult StopAndScanDriver::driveTo(const Eigen::Vector2d& waypoint,
     res.collisions += rot.collisions;
     res.distance_m += rot.distance_m;
   }
-  return res;
-}
-
-DriveResult StopAndScanDriver::driveStraight(const Eigen::Vector2d& waypoint)
-{
-  DriveLog log(robot_, distanceTo(robot_.pose(), waypoint));
-  const double r = params_.robotRadius();
-  mrpt::maps::CSimplePointsMap pts;
-  Ending end;
-  while (!end)
-  {
-    const CPose2D p = robot_.pose();
-    const double d = distanceTo(p, waypoint);
-    if (d <= params_.goal_tolerance_m)
-    {
-      end = {{DriveOutcome::Reached, mrpt::format("reached within %.3f m", d)}};
-      break;
-    }
-    if (!robot_.obstacles(pts))
-    {
-      end = {{DriveOutcome::Error, "the robot's obstacle sensors failed"}};
-      break;
-    }
-    double tx, ty;  // the waypoint in the robot frame
-    p.inverseComposePoint(waypoint.x(), waypoint.y(), tx, ty);
-    // Is the straight segment (0,0)-(tx,ty) free for the robot's circle?
-    const auto& xs = pts.getPointsBufferRef_x();
-    const auto& ys = pts.getPointsBufferRef_y();
-    const auto& zs = pts.getPointsBufferRef_z();
-    double closest = std::numeric_limits<double>::infinity();
-    for (std::size_t k = 0; k < xs.size(); k++)
-    {
-      if (zs[k] < params_.min_obstacle_height_m || zs[k] > params_.max_obstacle_height_m) continue;
-      const double u = std::clamp((xs[k] * tx + ys[k] * ty) / (d * d), 0.0, 1.0);
-      closest = std::min(closest, std::hypot(xs[k] - u * tx, ys[k] - u * ty));
-    }
-    if (closest < r)
-    {
-      end = {{DriveOutcome::Blocked,
-              mrpt::format("an obstacle lies %.3f m from the straight way (robot radius %.3f m)",
-                           closest, r)}};
-      break;
-    }
-    const double v = std::min(params_.max_v_mps, params_.max_v_mps * d / 0.3);
-    robot_.setVelocity(v * tx / d, v * ty / d, 0.0);
-    robot_.step(params_.dt_s);
-    log.afterStep(robot_);
-    end = checkAfterStep(robot_, params_, log, waypoint);
-  }
-  robot_.stop();
-  DriveResult res;
-  res.outcome = end->first;
-  res.message = end->second;
-  log.fill(res, robot_);
-  return res;
-}
-
-DriveResult StopAndScanDriver::escape()
-{
-  DriveLog log(robot_, 0.0);
-  const double r_clear = params_.robotRadius() + params_.escape_clearance_m;
-  const int max_esc_steps = static_cast<int>(std::ceil(params_.escape_timeout_s / params_.dt_s));
-  mrpt::maps::CSimplePointsMap pts;
-  std::optional<std::pair<DriveOutcome, std::string>> end;
-  double nearest = std::numeric_limits<double>::infinity();
-  for (int i = 0; !end; i++)
-  {
-    if (params_.escape_clearance_m <= 0)
-    {
-      end = {DriveOutcome::Reached, "off (escape_clearance_m = 0)"};
-      break;
-    }
-    if (!robot_.obstacles(pts))
-    {
-      end = {DriveOutcome::Error, "the robot's obstacle sensors failed"};
-      break;
-    }
-    // Repulsion of the points in the navigator's height band within r_clear.
-    const auto& xs = pts.getPointsBufferRef_x();
-    const auto& ys = pts.getPointsBufferRef_y();
-    const auto& zs = pts.getPointsBufferRef_z();
-    double vx = 0, vy = 0;
-    nearest = std::numeric_limits<double>::infinity();
-    for (std::size_t k = 0; k < xs.size(); k++)
-    {
-      if (zs[k] < params_.min_obstacle_height_m || zs[k] > params_.max_obstacle_height_m) continue;
-      const double d = std::hypot(xs[k], ys[k]);
-      nearest = std::min(nearest, d);
-      if (d >= r_clear || d < 1e-6) continue;
-      vx -= xs[k] / d * (r_clear - d);
-      vy -= ys[k] / d * (r_clear - d);
-    }
-    const double v = std::hypot(vx, vy);
-    if (collisionsOf(robot_) > log.collisions0)
-      end = {DriveOutcome::Error, "the robot reported a collision while backing off"};
-    else if (nearest >= r_clear)
-      end = {DriveOutcome::Reached, mrpt::format("clear, nearest obstacle %.3f m", nearest)};
-    else if (v < 1e-3)
-      end = {DriveOutcome::Blocked,
-             mrpt::format("pinched from both sides, nearest obstacle %.3f m", nearest)};
-    else if (i >= max_esc_steps)
-      end = {DriveOutcome::Blocked,
-             mrpt::format("still %.3f m from an obstacle after escape_timeout_s = %.1f s", nearest,
-                          params_.escape_timeout_s)};
-    if (end) break;
-    robot_.setVelocity(params_.escape_speed_mps * vx / v, params_.escape_speed_mps * vy / v, 0.0);
-    robot_.step(params_.dt_s);
-    log.afterStep(robot_);
-  }
-  robot_.stop();
-  DriveResult res;
-  res.outcome = end->first;
-  res.message = end->second;
-  log.fill(res, robot_);
   return res;
 }
 

@@ -1,0 +1,134 @@
+/* voxplore — StopAndScanDriver's own recovery drives, used when MRPT's
+ * reactive navigator stalls (a measured weakness of CHolonomicND in 1.1 m
+ * corridors, see StopAndScanDriver.h). */
+#include <mrpt/core/format.h>
+#include <mrpt/maps/CSimplePointsMap.h>
+#include <voxplore/navigation/StopAndScanDriver.h>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <optional>
+
+#include "drive_log.h"
+
+namespace voxplore::navigation
+{
+using mrpt::poses::CPose2D;
+using namespace detail;
+
+DriveResult StopAndScanDriver::driveStraight(const Eigen::Vector2d& waypoint)
+{
+  DriveLog log(robot_, distanceTo(robot_.pose(), waypoint));
+  const double r = params_.robotRadius();
+  mrpt::maps::CSimplePointsMap pts;
+  Ending end;
+  while (!end)
+  {
+    const CPose2D p = robot_.pose();
+    const double d = distanceTo(p, waypoint);
+    if (d <= params_.goal_tolerance_m)
+    {
+      end = {{DriveOutcome::Reached, mrpt::format("reached within %.3f m", d)}};
+      break;
+    }
+    if (!robot_.obstacles(pts))
+    {
+      end = {{DriveOutcome::Error, "the robot's obstacle sensors failed"}};
+      break;
+    }
+    double tx, ty;  // the waypoint in the robot frame
+    p.inverseComposePoint(waypoint.x(), waypoint.y(), tx, ty);
+    // Is the straight segment (0,0)-(tx,ty) free for the robot's circle?
+    const auto& xs = pts.getPointsBufferRef_x();
+    const auto& ys = pts.getPointsBufferRef_y();
+    const auto& zs = pts.getPointsBufferRef_z();
+    double closest = std::numeric_limits<double>::infinity();
+    for (std::size_t k = 0; k < xs.size(); k++)
+    {
+      if (zs[k] < params_.min_obstacle_height_m || zs[k] > params_.max_obstacle_height_m) continue;
+      const double u = std::clamp((xs[k] * tx + ys[k] * ty) / (d * d), 0.0, 1.0);
+      closest = std::min(closest, std::hypot(xs[k] - u * tx, ys[k] - u * ty));
+    }
+    if (closest < r)
+    {
+      end = {{DriveOutcome::Blocked,
+              mrpt::format("an obstacle lies %.3f m from the straight way (robot radius %.3f m)",
+                           closest, r)}};
+      break;
+    }
+    const double v = std::min(params_.max_v_mps, params_.max_v_mps * d / 0.3);
+    robot_.setVelocity(v * tx / d, v * ty / d, 0.0);
+    robot_.step(params_.dt_s);
+    log.afterStep(robot_);
+    end = checkAfterStep(robot_, params_, log, waypoint);
+  }
+  robot_.stop();
+  DriveResult res;
+  res.outcome = end->first;
+  res.message = end->second;
+  log.fill(res, robot_);
+  return res;
+}
+
+DriveResult StopAndScanDriver::escape()
+{
+  DriveLog log(robot_, 0.0);
+  const double r_clear = params_.robotRadius() + params_.escape_clearance_m;
+  const int max_esc_steps = static_cast<int>(std::ceil(params_.escape_timeout_s / params_.dt_s));
+  mrpt::maps::CSimplePointsMap pts;
+  std::optional<std::pair<DriveOutcome, std::string>> end;
+  double nearest = std::numeric_limits<double>::infinity();
+  for (int i = 0; !end; i++)
+  {
+    if (params_.escape_clearance_m <= 0)
+    {
+      end = {DriveOutcome::Reached, "off (escape_clearance_m = 0)"};
+      break;
+    }
+    if (!robot_.obstacles(pts))
+    {
+      end = {DriveOutcome::Error, "the robot's obstacle sensors failed"};
+      break;
+    }
+    // Repulsion of the points in the navigator's height band within r_clear.
+    const auto& xs = pts.getPointsBufferRef_x();
+    const auto& ys = pts.getPointsBufferRef_y();
+    const auto& zs = pts.getPointsBufferRef_z();
+    double vx = 0, vy = 0;
+    nearest = std::numeric_limits<double>::infinity();
+    for (std::size_t k = 0; k < xs.size(); k++)
+    {
+      if (zs[k] < params_.min_obstacle_height_m || zs[k] > params_.max_obstacle_height_m) continue;
+      const double d = std::hypot(xs[k], ys[k]);
+      nearest = std::min(nearest, d);
+      if (d >= r_clear || d < 1e-6) continue;
+      vx -= xs[k] / d * (r_clear - d);
+      vy -= ys[k] / d * (r_clear - d);
+    }
+    const double v = std::hypot(vx, vy);
+    if (collisionsOf(robot_) > log.collisions0)
+      end = {DriveOutcome::Error, "the robot reported a collision while backing off"};
+    else if (nearest >= r_clear)
+      end = {DriveOutcome::Reached, mrpt::format("clear, nearest obstacle %.3f m", nearest)};
+    else if (v < 1e-3)
+      end = {DriveOutcome::Blocked,
+             mrpt::format("pinched from both sides, nearest obstacle %.3f m", nearest)};
+    else if (i >= max_esc_steps)
+      end = {DriveOutcome::Blocked,
+             mrpt::format("still %.3f m from an obstacle after escape_timeout_s = %.1f s", nearest,
+                          params_.escape_timeout_s)};
+    if (end) break;
+    robot_.setVelocity(params_.escape_speed_mps * vx / v, params_.escape_speed_mps * vy / v, 0.0);
+    robot_.step(params_.dt_s);
+    log.afterStep(robot_);
+  }
+  robot_.stop();
+  DriveResult res;
+  res.outcome = end->first;
+  res.message = end->second;
+  log.fill(res, robot_);
+  return res;
+}
+
+}  // namespace voxplore::navigation

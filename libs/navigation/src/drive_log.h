@@ -1,0 +1,72 @@
+/* voxplore — bookkeeping shared by StopAndScanDriver's drives (internal). */
+#pragma once
+
+#include <mrpt/core/format.h>
+#include <mrpt/poses/CPose2D.h>
+#include <voxplore/navigation/StopAndScanDriver.h>
+
+#include <cmath>
+#include <optional>
+#include <string>
+#include <utility>
+
+namespace voxplore::navigation::detail
+{
+using mrpt::poses::CPose2D;
+using Ending = std::optional<std::pair<DriveOutcome, std::string>>;
+
+inline double seconds(const RobotInterface& robot)
+{
+  return mrpt::Clock::toDouble(robot.now());
+}
+
+inline std::size_t collisionsOf(const RobotInterface& robot)
+{
+  return robot.collisionCount().value_or(0);
+}
+
+inline double distanceTo(const CPose2D& p, const Eigen::Vector2d& goal)
+{
+  return std::hypot(goal.x() - p.x(), goal.y() - p.y());
+}
+
+// Bookkeeping of one drive: path length, progress, collisions.
+struct DriveLog
+{
+  double t0_s = 0, best_dist_m = 0, t_best_s = 0, path_m = 0;
+  std::size_t steps = 0, collisions0 = 0;
+  int target_blocked_steps = 0;  ///< consecutive steps with an obstacle at the target
+  CPose2D last;
+
+  DriveLog(const RobotInterface& robot, double dist_m)
+      : t0_s(seconds(robot)),
+        best_dist_m(dist_m),
+        t_best_s(t0_s),
+        collisions0(collisionsOf(robot)),
+        last(robot.pose())
+  {
+  }
+
+  void afterStep(const RobotInterface& robot)
+  {
+    steps++;
+    const CPose2D p = robot.pose();
+    path_m += std::hypot(p.x() - last.x(), p.y() - last.y());
+    last = p;
+  }
+
+  void fill(DriveResult& r, const RobotInterface& robot) const
+  {
+    r.final_pose = robot.pose();
+    r.distance_m += path_m;
+    r.sim_time_s += seconds(robot) - t0_s;
+    r.steps += steps;
+    r.collisions += collisionsOf(robot) - collisions0;
+  }
+};
+
+/// Collisions, progress, time and step limits after one RobotInterface::step().
+Ending checkAfterStep(const RobotInterface& robot, const DriverParams& params, DriveLog& log,
+                      const Eigen::Vector2d& waypoint);
+
+}  // namespace voxplore::navigation::detail
