@@ -228,46 +228,26 @@ DriveResult StopAndScanDriver::driveTo(const Eigen::Vector2d& waypoint,
   if (nav.getCurrentState() == CAbstractNavigator::NAVIGATING) nav.cancel();
   if (nav.getCurrentState() == CAbstractNavigator::NAV_ERROR) nav.resetNavError();
   adapter.clearCommand();
-  robot_.stop();
-
-  DriveResult res;
-  res.outcome = end->first;
-  res.message = end->second;
-  log.fill(res, robot_);
+  DriveResult res = endDrive(robot_, log, *end);
   if (res.outcome == DriveOutcome::Blocked && params_.straight_fallback)
   {
     const DriveResult st = driveStraight(waypoint);
-    res.message += "; straight: " + st.message;
+    appendDrive(res, st, "straight: ");
     res.outcome = st.outcome;
-    res.final_pose = st.final_pose;
-    res.sim_time_s += st.sim_time_s;
-    res.steps += st.steps;
-    res.collisions += st.collisions;
-    res.distance_m += st.distance_m;
   }
   if (res.outcome == DriveOutcome::Blocked && params_.escape_clearance_m > 0)
   {
     // Leave the next attempt (a replan) a robot that can move again.
     const DriveResult esc = escape();
-    res.message += "; back-off: " + esc.message;
-    res.final_pose = esc.final_pose;
-    res.sim_time_s += esc.sim_time_s;
-    res.steps += esc.steps;
-    res.collisions += esc.collisions;
-    res.distance_m += esc.distance_m;
+    appendDrive(res, esc, "back-off: ");
     if (esc.outcome == DriveOutcome::Error) res.outcome = DriveOutcome::Error;
   }
   res.goal_distance_m = distanceTo(res.final_pose, waypoint);
   if (res.reached() && final_yaw_rad)
   {
     const DriveResult rot = rotateTo(*final_yaw_rad);
+    appendDrive(res, rot, "");
     res.outcome = rot.outcome;
-    res.message += "; " + rot.message;
-    res.final_pose = rot.final_pose;
-    res.sim_time_s += rot.sim_time_s;
-    res.steps += rot.steps;
-    res.collisions += rot.collisions;
-    res.distance_m += rot.distance_m;
   }
   return res;
 }
@@ -294,12 +274,7 @@ DriveResult StopAndScanDriver::rotateTo(double yaw_rad)
     robot_.step(params_.dt_s);
     log.afterStep(robot_);
   }
-  robot_.stop();
-  DriveResult res;
-  res.outcome = end->first;
-  res.message = end->second;
-  log.fill(res, robot_);
-  return res;
+  return endDrive(robot_, log, *end);
 }
 
 }  // namespace voxplore::navigation

@@ -63,12 +63,7 @@ DriveResult StopAndScanDriver::driveStraight(const Eigen::Vector2d& waypoint)
     log.afterStep(robot_);
     end = checkAfterStep(robot_, params_, log, waypoint);
   }
-  robot_.stop();
-  DriveResult res;
-  res.outcome = end->first;
-  res.message = end->second;
-  log.fill(res, robot_);
-  return res;
+  return endDrive(robot_, log, *end);
 }
 
 DriveResult StopAndScanDriver::escape()
@@ -123,12 +118,7 @@ DriveResult StopAndScanDriver::escape()
     robot_.step(params_.dt_s);
     log.afterStep(robot_);
   }
-  robot_.stop();
-  DriveResult res;
-  res.outcome = end->first;
-  res.message = end->second;
-  log.fill(res, robot_);
-  return res;
+  return endDrive(robot_, log, *end);
 }
 
 }  // namespace voxplore::navigation

@@ -65,6 +65,30 @@ struct DriveLog
   }
 };
 
+/// Stops the robot and returns the drive's result: `end` and the log's figures.
+inline DriveResult endDrive(RobotInterface& robot, const DriveLog& log,
+                            const std::pair<DriveOutcome, std::string>& end)
+{
+  robot.stop();
+  DriveResult r;
+  r.outcome = end.first;
+  r.message = end.second;
+  log.fill(r, robot);
+  return r;
+}
+
+/// Appends a follow-up drive (`label`: its message prefix) to `r`: its
+/// figures add up, its final pose is the result's; the outcome stays r's.
+inline void appendDrive(DriveResult& r, const DriveResult& next, const std::string& label)
+{
+  r.message += "; " + label + next.message;
+  r.final_pose = next.final_pose;
+  r.sim_time_s += next.sim_time_s;
+  r.steps += next.steps;
+  r.collisions += next.collisions;
+  r.distance_m += next.distance_m;
+}
+
 /// Collisions, progress, time and step limits after one RobotInterface::step().
 Ending checkAfterStep(const RobotInterface& robot, const DriverParams& params, DriveLog& log,
                       const Eigen::Vector2d& waypoint);
