@@ -25,6 +25,17 @@ bool collidesGrown(
 {
   return checker.collides(p, sim::Footprint{fp.length_m + 2 * d, fp.width_m + 2 * d});
 }
+/// Is the world-frame point `w` a Free cell of the map-frame grid `g`?
+bool knownFree(const exploration::GroundGrid& g, const mrpt::poses::CPose2D& T_map_world,
+               const Eigen::Vector2d& w)
+{
+  double mx = 0, my = 0;
+  T_map_world.composePoint(w.x(), w.y(), mx, my);
+  exploration::Cell c;
+  if (!exploration::cellOf(g.state, Eigen::Vector2d(mx, my), c)) return false;
+  const auto* s = g.state.cellByIndex(static_cast<unsigned>(c.cx), static_cast<unsigned>(c.cy));
+  return s && *s == exploration::GroundState::Free;
+}
 }  // namespace
 
 double coverage2d(
@@ -38,13 +49,7 @@ double coverage2d(
     {
       if (!free_floor_world.at(ix, iy)) continue;
       total++;
-      const Eigen::Vector2d cw = free_floor_world.center(ix, iy);
-      double mx = 0, my = 0;
-      T_map_world.composePoint(cw.x(), cw.y(), mx, my);
-      exploration::Cell c;
-      if (!exploration::cellOf(g.state, Eigen::Vector2d(mx, my), c)) continue;
-      const auto* s = g.state.cellByIndex(static_cast<unsigned>(c.cx), static_cast<unsigned>(c.cy));
-      if (s && *s == exploration::GroundState::Free) known++;
+      known += knownFree(g, T_map_world, free_floor_world.center(ix, iy));
     }
   return total ? double(known) / double(total) : 0.0;
 }
@@ -58,16 +63,7 @@ void writeCoverageMap(
   const sim::FloorGrid& f = gt.free_floor;
   const mrpt::poses::CPose2D T_map_world = -T_world_map;
   mrpt::img::CImage img(f.nx * scale, f.ny * scale, mrpt::img::CH_RGB);
-  const auto known = [&](int ix, int iy)
-  {
-    const Eigen::Vector2d cw = f.center(ix, iy);
-    double mx = 0, my = 0;
-    T_map_world.composePoint(cw.x(), cw.y(), mx, my);
-    exploration::Cell c;
-    if (!exploration::cellOf(g.state, Eigen::Vector2d(mx, my), c)) return false;
-    const auto* s = g.state.cellByIndex(static_cast<unsigned>(c.cx), static_cast<unsigned>(c.cy));
-    return s && *s == exploration::GroundState::Free;
-  };
+  const auto known = [&](int ix, int iy) { return knownFree(g, T_map_world, f.center(ix, iy)); };
   for (int iy = 0; iy < f.ny; iy++)
     for (int ix = 0; ix < f.nx; ix++)
     {

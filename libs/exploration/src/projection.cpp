@@ -5,6 +5,7 @@
 #include <mrpt/core/format.h>
 #include <octomap/OcTree.h>
 #include <voxplore/common/config.h>
+#include <voxplore/common/polygon.h>
 #include <voxplore/exploration/stages.h>
 
 #include <algorithm>
@@ -193,20 +194,6 @@ void floodFill(const ColumnTally& tally, int levels, const std::vector<uint8_t>&
     }
   }
 }
-/// Even-odd crossing test of the point (x, y) against a simple polygon.
-bool insidePolygon(const std::vector<Eigen::Vector2d>& poly, double x, double y)
-{
-  bool in = false;
-  for (std::size_t i = 0, j = poly.size() - 1; i < poly.size(); j = i++)
-  {
-    const Eigen::Vector2d& a = poly[i];
-    const Eigen::Vector2d& b = poly[j];
-    if ((a.y() > y) != (b.y() > y) && x < (b.x() - a.x()) * (y - a.y()) / (b.y() - a.y()) + a.x())
-      in = !in;
-  }
-  return in;
-}
-
 /// 1 for every cell of G within `radius` of a swept point (empty: none).
 std::vector<uint8_t> sweptMask(const GroundGrid& G, const std::vector<Eigen::Vector2d>& swept,
                                double radius)
@@ -240,7 +227,7 @@ std::vector<uint8_t> outsideMask(const GroundGrid& G, const std::vector<Eigen::V
     const double y = G.state.idx2y(cy);
     for (int cx = 0; cx < nx; ++cx)
       out[static_cast<std::size_t>(cy) * nx + cx] =
-          insidePolygon(region, G.state.idx2x(cx), y) ? 0 : 1;
+          common::pointInPolygon(region, G.state.idx2x(cx), y) ? 0 : 1;
   }
   return out;
 }
