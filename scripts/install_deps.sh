@@ -26,6 +26,10 @@ PACKAGES=(
   # libclang-rt-14-dev) and llvm-symbolizer (llvm-14) for readable stack traces.
   # Stage 2 (scripts/sanitize.sh) uses g++'s libasan/libubsan.
   clang-14 libclang-rt-14-dev llvm-14
+  # campaigns (scripts/campaign.sh): GNU parallel runs the grid, gnuplot draws
+  # the report's plots (no X: gnuplot-nox), python3 aggregates the CSVs,
+  # /usr/bin/time measures each run's CPU time and peak memory
+  parallel gnuplot-nox python3 time
 )
 
 missing=()
