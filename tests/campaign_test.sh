@@ -1,0 +1,101 @@
+#!/usr/bin/env bash
+# Campaign.ResumeAndReport: scripts/campaign.sh end to end on dlr_test_room.
+#   tests/campaign_test.sh [BIN_DIR]      (default: REPO/build/bin)
+# A 3-line spec (omnirob nbv seed 1, omnirob nearest seed 1, a world file that
+# does not exist) through GNU parallel with --sshlogin : (parallel's ssh code
+# path, on this machine) and --max-steps 1, then checks runs.csv, report.md and
+# the plots; runs campaign.sh again on the same directory and checks that it
+# redid nothing. About 15 s on 2 cores. Fails (non-zero) on any check.
+set -euo pipefail
+
+REPO=$(cd "$(dirname "$0")/.." && pwd)
+BIN=$(realpath -m -- "${1:-$REPO/build/bin}")
+[ -x "$BIN/voxplore-explore" ] || { echo "FAIL: no voxplore-explore in $BIN" >&2; exit 1; }
+for t in parallel gnuplot python3; do
+  command -v "$t" >/dev/null || { echo "FAIL: $t is missing (scripts/install_deps.sh)" >&2; exit 1; }
+done
+
+TMP=$(mktemp -d "${TMPDIR:-/tmp}/campaign_test.XXXXXX")
+ok=0
+cleanup() { if [ "$ok" -eq 1 ]; then rm -rf "$TMP"; else echo "campaign_test: outputs kept in $TMP" >&2; fi; }
+trap cleanup EXIT
+fail() { echo "FAIL: $*" >&2; exit 1; }
+# parallel keeps state in $PARALLEL_HOME (default ~/.parallel): keep the test's own.
+export PARALLEL_HOME="$TMP/parallel_home"
+
+# WORLD relative to the repository root (not found beside the spec).
+cat > "$TMP/spec.txt" <<'EOF'
+# campaign_test.sh
+simulated_worlds/dlr_test_room.world omnirob nbv 1
+simulated_worlds/dlr_test_room.world omnirob nearest 1   # the baseline
+
+no_such_dir/no_such_world.world omnirob nbv 1
+EOF
+OUT="$TMP/campaign"
+campaign() {
+  "$REPO/scripts/campaign.sh" --spec "$TMP/spec.txt" --out "$OUT" --bin "$BIN" \
+    --max-steps 1 --jobs 2 --sshlogin : --timeout 600
+}
+
+echo "campaign_test: first call"
+rc=0; campaign > "$TMP/first.log" 2>&1 || rc=$?
+[ "$rc" -eq 0 ] || { cat "$TMP/first.log" >&2; fail "campaign.sh exited $rc"; }
+cat "$TMP/first.log"
+
+# runs.csv: 3 rows in spec order; the failure is a row with its error.
+python3 - "$OUT" <<'EOF' || fail "runs.csv checks"
+import csv, json, os, sys
+out = sys.argv[1]
+rows = list(csv.DictReader(open(os.path.join(out, "runs.csv"))))
+def check(cond, msg):
+    if not cond:
+        print("FAIL:", msg, file=sys.stderr)
+        sys.exit(1)
+check(len(rows) == 3, "runs.csv has %d data rows, not 3" % len(rows))
+check([r["strategy"] for r in rows] == ["nbv", "nearest", "nbv"], "rows not in spec order")
+for r in rows[:2]:
+    check(r["exit_status"] == "0" and r["error"] == "", "run %s failed: %s" % (r["run_dir"], r["error"]))
+    check(r["termination_reason"] == "max_steps", "%s: termination %s" % (r["run_dir"], r["termination_reason"]))
+    check(r["steps"] == "1", "%s: %s steps, not 1" % (r["run_dir"], r["steps"]))
+    for k in ("coverage_2d", "path_length_m", "wall_s", "cpu_s", "peak_rss_mb"):
+        check(r.get(k, "") != "" and float(r[k]) >= 0, "%s: no %s" % (r["run_dir"], k))
+    check(0 < float(r["coverage_2d"]) <= 1, "%s: coverage_2d %s" % (r["run_dir"], r["coverage_2d"]))
+    run = json.load(open(os.path.join(out, r["run_dir"], "run.json")))
+    check("--max-steps 1" in run["command"], "run.json command: %s" % run["command"])
+bad = rows[2]
+check(bad["world"] == "no_such_dir/no_such_world.world", "failed row world %s" % bad["world"])
+check(bad["exit_status"] not in ("", "0"), "failed row exit status '%s'" % bad["exit_status"])
+check(bad["error"].strip() != "", "failed row has no error")
+check(bad["coverage_2d"] == "", "failed row has a coverage")
+print("campaign_test: runs.csv ok; the failed row says:", bad["error"])
+EOF
+
+[ -s "$OUT/report.md" ] || fail "no report.md"
+for s in nbv nearest; do
+  grep -q "$s" "$OUT/report.md" || fail "report.md does not mention $s"
+done
+grep -q "no_such_world" "$OUT/report.md" || fail "report.md does not list the failed run"
+for png in coverage_vs_path_nbv.png coverage_vs_path_nearest.png path_per_m2_box.png; do
+  [ -s "$OUT/$png" ] || fail "no $png"
+  head -c 8 "$OUT/$png" | od -An -tx1 | grep -q "89 50 4e 47" || fail "$png is not a PNG"
+  grep -q "($png)" "$OUT/report.md" || fail "report.md does not link $png"
+done
+[ "$(tail -n +2 "$OUT/joblog" | wc -l)" -eq 3 ] || fail "joblog has not 3 jobs after the first call"
+
+# Second call: everything finished, so nothing may run again.
+stamp() { for d in "$OUT"/runs/*/; do stat -c '%n %Y %i' "$d/run.json" "$d/stdout.log"; done; }
+before=$(stamp)
+log_before=$(cat "$OUT/joblog")
+sleep 1
+echo "campaign_test: second call (must redo nothing)"
+rc=0; campaign > "$TMP/second.log" 2>&1 || rc=$?
+[ "$rc" -eq 0 ] || { cat "$TMP/second.log" >&2; fail "the second campaign.sh exited $rc"; }
+cat "$TMP/second.log"
+[ "$(cat "$OUT/joblog")" = "$log_before" ] || fail "the joblog changed: a run was redone"
+[ "$(stamp)" = "$before" ] || fail "a run directory changed: a run was redone"
+grep -q "\[[0-9]*/3\]" "$TMP/second.log" && fail "the second call ran a job"
+[ "$(python3 -c 'import csv,sys; print(len(list(csv.DictReader(open(sys.argv[1])))))' "$OUT/runs.csv")" -eq 3 ] \
+  || fail "runs.csv lost rows on the second call"
+
+ok=1
+echo "campaign_test: PASS"
