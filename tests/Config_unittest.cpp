@@ -1,6 +1,7 @@
 // Configuration: every config/*.ini loads, save/load round trips, and bad
 // keys or values are errors naming the file and the key.
 #include <gtest/gtest.h>
+#include <voxplore/sim/worldgen.h>
 #include <mrpt/config/CConfigFile.h>
 #include <mrpt/config/CConfigFileMemory.h>
 #include <voxplore/common/config.h>
@@ -60,7 +61,10 @@ TEST(Config, EveryIniInConfigLoads)
     for (const auto& sec : exploration::PlannerParams::sections()) known.insert(sec);
     for (const auto& sec : navigation::DriverParams::sections()) known.insert(sec);
     known.insert(apps::ExploreParams::section());
+    known.insert("worldgen");
     EXPECT_NO_THROW(common::assertKnownSections(*cfg, known));
+    sim::WorldGenParams worldgen;
+    EXPECT_NO_THROW(common::loadChecked(worldgen, *cfg, "worldgen"));
     EXPECT_NO_THROW(sim::SimConfig::load(*cfg));
     mapping::SlamIcpParams slam;
     EXPECT_NO_THROW(slam.load(*cfg));

@@ -9,6 +9,7 @@
 #include <voxplore/sim/ground_truth.h>
 #include <voxplore/sim/world_loading.h>
 
+#include <algorithm>
 #include <filesystem>
 #include <fstream>
 #include <nlohmann/json.hpp>
@@ -86,10 +87,19 @@ TEST(Explore, DlrTestRoomIsExploredCompletelySafelyAndAccurately)
       return out;
     };
     const auto v = cols(last);
-    ASSERT_EQ(v.size(), cols(header).size()) << last;
-    EXPECT_GT(std::stod(v[v.size() - 3]), 1000.0);  // metaview points
-    EXPECT_GT(std::stod(v[v.size() - 2]), 1000.0);  // octree nodes
-    EXPECT_GT(std::stod(v[v.size() - 1]), 10.0);    // rss [MiB]
+    const auto names = cols(header);
+    ASSERT_EQ(v.size(), names.size()) << last;
+    const auto column = [&](const std::string& name)  // by name: columns are added at the end
+    {
+      const auto it = std::find(names.begin(), names.end(), name);
+      EXPECT_NE(it, names.end()) << name;
+      return it == names.end() ? 0.0 : std::stod(v[it - names.begin()]);
+    };
+    EXPECT_GT(column("metaview_points"), 1000.0);
+    EXPECT_GT(column("octree_nodes"), 1000.0);
+    EXPECT_GT(column("rss_mb"), 10.0);
+    EXPECT_NEAR(column("coverage_2d"), s.coverage_2d, 0.05);  // the last step's map is the final one, up to the swept path
+    EXPECT_GT(column("coverage_2d_planner_circle"), 0.5);
   }
 
   // coverage.png (coverage per step, thesis fig. 5.3): a real PNG with a plot in it.
@@ -110,7 +120,9 @@ TEST(Explore, DlrTestRoomIsExploredCompletelySafelyAndAccurately)
   const auto j = readJson(fs::path(out) / "summary.json");
   for (const char* k : {"termination_reason", "steps", "path_length_m", "coverage_2d", "coverage_3d",
                         "map_precision", "collisions", "min_clearance_m", "ate_rmse_m", "compute_s",
-                        "sim_time_s", "coverage_2d_circumradius", "peak_rss_mb"})
+                        "sim_time_s", "coverage_2d_circumradius", "coverage_2d_planner_circle",
+                        "floor_reachable_m2", "floor_reachable_planner_circle_m2",
+                        "floor_reachable_circumradius_m2", "peak_rss_mb"})
     EXPECT_TRUE(j.contains(k)) << k;
   EXPECT_EQ(j["termination_reason"].get<std::string>(), s.termination_reason);
   EXPECT_EQ(j["steps"].get<std::size_t>(), s.steps);

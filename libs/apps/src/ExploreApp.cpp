@@ -104,6 +104,8 @@ void ExploreParams::loadFromConfigFile(const mrpt::config::CConfigFileBase& c, c
   MRPT_LOAD_CONFIG_VAR(write_step_images, bool, c, s);
   MRPT_LOAD_CONFIG_VAR(step_image_scale, int, c, s);
   MRPT_LOAD_CONFIG_VAR(gt_floor_res_m, double, c, s);
+  MRPT_LOAD_CONFIG_VAR(coverage_yaw_bins, int, c, s);
+  MRPT_LOAD_CONFIG_VAR(coverage_view_range_m, double, c, s);
   MRPT_LOAD_CONFIG_VAR(band_z_min_m, double, c, s);
   MRPT_LOAD_CONFIG_VAR(band_z_max_m, double, c, s);
   MRPT_LOAD_CONFIG_VAR(region_from_world, bool, c, s);
@@ -115,6 +117,9 @@ void ExploreParams::loadFromConfigFile(const mrpt::config::CConfigFileBase& c, c
                        "must be >= 1");
   common::requireValid(step_image_scale >= 1, c, s, "step_image_scale", "must be >= 1");
   common::requireValid(gt_floor_res_m > 0, c, s, "gt_floor_res_m", "must be > 0");
+  common::requireValid(coverage_yaw_bins >= 2 && coverage_yaw_bins <= 128, c, s,
+                       "coverage_yaw_bins", "must be in 2..128");
+  common::requireValid(coverage_view_range_m >= 0, c, s, "coverage_view_range_m", "must be >= 0");
   common::requireValid(band_z_max_m > band_z_min_m, c, s, "band_z_max_m",
                        "must be above band_z_min_m");
 }
@@ -129,6 +134,8 @@ void ExploreParams::saveToConfigFile(mrpt::config::CConfigFileBase& c, const std
   MRPT_SAVE_CONFIG_VAR(write_step_images, c, s);
   MRPT_SAVE_CONFIG_VAR(step_image_scale, c, s);
   MRPT_SAVE_CONFIG_VAR(gt_floor_res_m, c, s);
+  MRPT_SAVE_CONFIG_VAR(coverage_yaw_bins, c, s);
+  MRPT_SAVE_CONFIG_VAR(coverage_view_range_m, c, s);
   MRPT_SAVE_CONFIG_VAR(band_z_min_m, c, s);
   MRPT_SAVE_CONFIG_VAR(band_z_max_m, c, s);
   MRPT_SAVE_CONFIG_VAR(region_from_world, c, s);

@@ -55,25 +55,32 @@ double coverage2d(
 }
 
 void writeCoverageMap(
-    const exploration::GroundGrid& g, const sim::ReachableFloor& gt, const sim::ReachableFloor& body,
+    const exploration::GroundGrid& g, const sim::FootprintReach& gt,
+    const sim::ReachableFloor& planner, const sim::ReachableFloor& body,
     const mrpt::poses::CPose2D& T_world_map,
     const std::vector<mrpt::poses::CPose2D>& trajectory_world, const std::string& png_path,
     int scale)
 {
+  using mrpt::img::TColor;
   const sim::FloorGrid& f = gt.free_floor;
+  const auto sameGrid = [&](const sim::FloorGrid& o) { return o.nx == f.nx && o.ny == f.ny; };
+  const auto in = [&](const sim::FloorGrid& o, int ix, int iy)
+  { return sameGrid(o) && o.at(ix, iy) != 0; };
   const mrpt::poses::CPose2D T_map_world = -T_world_map;
   mrpt::img::CImage img(f.nx * scale, f.ny * scale, mrpt::img::CH_RGB);
   const auto known = [&](int ix, int iy) { return knownFree(g, T_map_world, f.center(ix, iy)); };
   for (int iy = 0; iy < f.ny; iy++)
     for (int ix = 0; ix < f.nx; ix++)
     {
-      mrpt::img::TColor col(225, 225, 225);
+      TColor col(225, 225, 225);
       if (gt.obstacle.at(ix, iy))
-        col = mrpt::img::TColor(0, 0, 0);
-      else if (f.at(ix, iy))
-        col = known(ix, iy) ? mrpt::img::TColor(120, 160, 255) : mrpt::img::TColor(220, 40, 40);
-      else if (body.free_floor.nx == f.nx && body.free_floor.ny == f.ny && body.free_floor.at(ix, iy))
-        col = known(ix, iy) ? mrpt::img::TColor(255, 210, 150) : mrpt::img::TColor(255, 140, 0);
+        col = TColor(0, 0, 0);
+      else if (f.at(ix, iy) && in(planner.free_floor, ix, iy))
+        col = known(ix, iy) ? TColor(120, 160, 255) : TColor(220, 40, 40);
+      else if (f.at(ix, iy))  // the footprint's floor beyond the planner's circle
+        col = known(ix, iy) ? TColor(60, 190, 170) : TColor(150, 60, 200);
+      else if (in(planner.free_floor, ix, iy) || in(body.free_floor, ix, iy))
+        col = known(ix, iy) ? TColor(255, 210, 150) : TColor(255, 140, 0);
       const int x0 = ix * scale, y0 = (f.ny - 1 - iy) * scale;
       img.filledRectangle(x0, y0, x0 + scale - 1, y0 + scale - 1, col);
     }

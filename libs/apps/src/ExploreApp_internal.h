@@ -5,6 +5,7 @@
 #include <mrpt/poses/CPose3D.h>
 #include <voxplore/exploration/stages.h>
 #include <voxplore/sim/CollisionChecker.h>
+#include <voxplore/sim/footprint_reach.h>
 #include <voxplore/sim/ground_truth.h>
 
 #include <Eigen/Core>
@@ -28,6 +29,25 @@ double coverage3d(
     const std::vector<Eigen::Vector3d>& occupied_centers_map, const mrpt::poses::CPose3D& T_world_map,
     const std::vector<sim::VoxelIndex>& band, double res_m);
 
+/// @brief coverage_map.png: the ground-truth floor grid (world frame, y up).
+///        The floor coverage_2d is measured on (`gt`: what the footprint
+///        reaches or sees) in blue where the map knows it as Free and red where
+///        it missed it; where the planner's circle reaches none of it (in
+///        `gt` but not in `planner`'s free floor: rooms behind doors narrower
+///        than the circle, floor seen through a gap) teal when known, purple
+///        when missed. Floor that only a circle reaches (`planner` or `body`
+///        free floor outside `gt`; rare, a cell or two where a yaw bin's
+///        rectangle is tighter than the circle) orange, light when known.
+///        Obstacles black, the rest light grey, the true trajectory dark red:
+///        where coverage_2d was lost. All three share one grid.
+/// @throws std::runtime_error naming the path when it cannot be written.
+void writeCoverageMap(
+    const exploration::GroundGrid& g, const sim::FootprintReach& gt,
+    const sim::ReachableFloor& planner, const sim::ReachableFloor& body,
+    const mrpt::poses::CPose2D& T_world_map,
+    const std::vector<mrpt::poses::CPose2D>& trajectory_world, const std::string& png_path,
+    int scale = 2);
+
 /// @brief Smallest distance between the footprint and the world geometry
 ///        over `trajectory_world`: for each pose, bisection on the margin d
 ///        by which the footprint rectangle is grown on every side until it
@@ -35,19 +55,6 @@ double coverage3d(
 ///        grown rectangle covers the true d-offset shape, so the value is a
 ///        lower bound within the rectangle's corner rounding.
 /// @return 0 when a pose collides; `cap_m` when nothing is within cap_m
-/// @brief coverage_map.png: the ground-truth floor grid (world frame, y up)
-///        with the reachable free floor (`gt`) the map knows as Free in blue,
-///        the part it missed in red, the floor only the bare circumcircle
-///        reaches (`body` minus `gt`) in orange (light when known),
-///        obstacles black, the rest light grey, and the true trajectory in
-///        dark red: where coverage_2d was lost. `gt` and `body` share a grid.
-/// @throws std::runtime_error naming the path when it cannot be written.
-void writeCoverageMap(
-    const exploration::GroundGrid& g, const sim::ReachableFloor& gt, const sim::ReachableFloor& body,
-    const mrpt::poses::CPose2D& T_world_map,
-    const std::vector<mrpt::poses::CPose2D>& trajectory_world, const std::string& png_path,
-    int scale = 2);
-
 double minClearance(
     const sim::CollisionChecker& checker, const sim::Footprint& footprint,
     const std::vector<mrpt::poses::CPose2D>& trajectory_world, double cap_m = 2.0);

@@ -136,7 +136,11 @@ void writeExploreSummary(const ExploreSummary& s, const std::string& path)
     << ",\n  \"skipped_cameras\": " << s.skipped_cameras << ",\n  \"failed_drives\": " << s.failed_drives
     << ",\n  \"blacklisted\": " << s.blacklisted << ",\n  \"path_length_m\": " << s.path_length_m
     << ",\n  \"coverage_2d\": " << s.coverage_2d
+    << ",\n  \"coverage_2d_planner_circle\": " << s.coverage_2d_planner_circle
     << ",\n  \"coverage_2d_circumradius\": " << s.coverage_2d_circumradius
+    << ",\n  \"floor_reachable_m2\": " << s.floor_reachable_m2
+    << ",\n  \"floor_reachable_planner_circle_m2\": " << s.floor_reachable_planner_circle_m2
+    << ",\n  \"floor_reachable_circumradius_m2\": " << s.floor_reachable_circumradius_m2
     << ",\n  \"coverage_3d\": " << s.coverage_3d
     << ",\n  \"map_precision\": " << s.map_precision
     << ",\n  \"map_precision_above_floor\": " << s.map_precision_above_floor << ",\n  \"collisions\": " << s.collisions
@@ -156,7 +160,7 @@ void ExploreRun::openOutputs()
   coverage_csv_ << "step,stops,sim_time_s,path_length_m,coverage_2d,frontiers,done,target_x,"
                    "target_y,waypoints,ms_slam,ms_projection,ms_collision,ms_frontiers,"
                    "ms_sampling,ms_rating,ms_path,ms_plan_total,metaview_points,octree_nodes,"
-                   "rss_mb\n";
+                   "rss_mb,coverage_2d_planner_circle\n";
   if (cfg_.explore.write_step_images) fs::create_directories(dir / "steps");
 }
 
@@ -165,17 +169,18 @@ double ExploreRun::coverageOf(const exploration::GroundGrid& g) const
   return explore_detail::coverage2d(g, gt_floor_.free_floor, T_world_map_);
 }
 
-void ExploreRun::writeCoverageRow(const exploration::PlanResult& p, double coverage)
+void ExploreRun::writeCoverageRow(const exploration::PlanResult& p, double coverage,
+                                  double coverage_planner_circle)
 {
   coverage_csv_ << mrpt::format(
       "%zu,%zu,%.3f,%.4f,%.5f,%zu,%s,%.3f,%.3f,%zu,%.1f,%.1f,%.1f,%.1f,%.1f,%.1f,%.1f,%.1f,%zu,%zu,"
-      "%.1f\n",
+      "%.1f,%.5f\n",
       s_.steps, s_.stops, sim_.simTime(), s_.path_length_m, coverage,
       p.frontiers ? p.frontiers->frontiers.size() : std::size_t(0),
       p.ok() ? "no" : exploration::toString(p.done), p.target.x(), p.target.y(),
       p.waypoints.size(), slam_ms_step_, p.ms.projection, p.ms.collision, p.ms.frontiers,
       p.ms.sampling, p.ms.rating, p.ms.path, p.ms.total, slam_.metaview().size(),
-      slam_.octomap().tree().size(), processMemoryMb("VmRSS:"));
+      slam_.octomap().tree().size(), processMemoryMb("VmRSS:"), coverage_planner_circle);
   coverage_csv_.flush();
   // coverage.png follows coverage.csv at every step (a few ms), so a run cut
   // short still leaves it.
@@ -232,6 +237,8 @@ void ExploreRun::finish()
       exploration::projectToGround(slam_.octomap().tree(), slam_.currentPose(),
                                    cfg_.planner.projection, swept_);
   s_.coverage_2d = coverageOf(ground);
+  s_.coverage_2d_planner_circle =
+      explore_detail::coverage2d(ground, gt_floor_planner_.free_floor, T_world_map_);
   s_.coverage_2d_circumradius =
       explore_detail::coverage2d(ground, gt_floor_body_.free_floor, T_world_map_);
   const auto occupied = slam_.octomap().occupiedVoxelCenters();

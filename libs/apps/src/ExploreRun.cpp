@@ -65,17 +65,52 @@ ExploreRun::ExploreRun(
       cfg_.planner.projection.region.emplace_back(mx, my);
     }
   }
-  // coverage_2d: the floor a robot with the planner's collision radius
-  // r_coll + sqrt(2) l_res (thesis eq. 4.4) can reach; a passage narrower than
-  // that is out of the method's reach by design. The floor the bare
-  // circumcircle reaches is reported beside it.
-  const double r_planner = cfg_.planner.collision.r_coll_m + std::sqrt(2.0) * cfg_.slam.octomap.l_res_m;
-  gt_floor_ = sim::reachableFreeFloor(sim_.world(), sim_.checker(), T_world_map_, r_planner,
-                                      cfg_.explore.gt_floor_res_m, bounded ? &region : nullptr);
+  computeGroundTruthFloor(bounded ? &region : nullptr);
+  gt_path_.push_back(T_world_map_);
+}
+
+void ExploreRun::computeGroundTruthFloor(const Eigen::AlignedBox2d* region)
+{
+  // coverage_2d: the floor the robot's real footprint (the rotated rectangle
+  // the simulator's collision checker tests) reaches from the start, over
+  // position and yaw, plus the floor its cameras see from there (issue 10).
+  const auto t0 = std::chrono::steady_clock::now();
+  const sim::Footprint footprint = cfg_.sim.robot.footprint();
+  sim::FootprintReachParams fp;
+  fp.res_m = cfg_.explore.gt_floor_res_m;
+  fp.yaw_bins = cfg_.explore.coverage_yaw_bins;
+  fp.view_range_m = cfg_.explore.coverage_view_range_m;
+  gt_floor_ = sim::footprintReachableFloor(sim_.world(), sim_.checker(), T_world_map_, footprint,
+                                           fp, region);
+  gt_floor_.bins = {};  // the per-state masks are not needed after this (16 B per cell)
+  const double footprint_s = secondsSince(t0);
+  // Beside it, the circles: the planner's collision radius r_coll + sqrt(2)
+  // l_res (thesis eq. 4.4; a passage narrower than that is out of the
+  // method's reach by design) and the bare circumcircle.
+  const auto t1 = std::chrono::steady_clock::now();
+  const double r_planner =
+      cfg_.planner.collision.r_coll_m + std::sqrt(2.0) * cfg_.slam.octomap.l_res_m;
+  gt_floor_planner_ = sim::reachableFreeFloor(sim_.world(), sim_.checker(), T_world_map_, r_planner,
+                                              cfg_.explore.gt_floor_res_m, region);
   gt_floor_body_ = sim::reachableFreeFloor(sim_.world(), sim_.checker(), T_world_map_,
                                            cfg_.planner.collision.r_coll_m,
-                                           cfg_.explore.gt_floor_res_m, bounded ? &region : nullptr);
-  gt_path_.push_back(T_world_map_);
+                                           cfg_.explore.gt_floor_res_m, region);
+  s_.floor_reachable_m2 = gt_floor_.free_floor_area_m2;
+  s_.floor_reachable_planner_circle_m2 = gt_floor_planner_.free_floor_area_m2;
+  s_.floor_reachable_circumradius_m2 = gt_floor_body_.free_floor_area_m2;
+  if (!gt_floor_.start_free)
+    std::cerr << "voxplore-explore: warning: the footprint does not fit at the start yaw at "
+                 "the start's 5 cm cell or its neighbours: coverage_2d has no floor to measure"
+              << std::endl;
+  if (quiet_) return;
+  std::cout << mrpt::format(
+                   "voxplore-explore: ground truth: floor reachable or seen by the footprint "
+                   "%.1f m^2 (robot centres %.1f m^2, %d yaw bins, view range %.1f m) took %.2f s; "
+                   "planner circle %.1f m^2, circumradius %.1f m^2 took %.2f s",
+                   s_.floor_reachable_m2, gt_floor_.reachable_area_m2, fp.yaw_bins,
+                   fp.view_range_m, footprint_s, s_.floor_reachable_planner_circle_m2,
+                   s_.floor_reachable_circumradius_m2, secondsSince(t1))
+            << std::endl;
 }
 
 ExploreSummary ExploreRun::execute()
@@ -99,8 +134,8 @@ ExploreSummary ExploreRun::execute()
   }
   finish();
   if (last_ground_)
-    explore_detail::writeCoverageMap(*last_ground_, gt_floor_, gt_floor_body_, T_world_map_, gt_path_,
-                                     out_dir_ + "/coverage_map.png");
+    explore_detail::writeCoverageMap(*last_ground_, gt_floor_, gt_floor_planner_, gt_floor_body_,
+                                     T_world_map_, gt_path_, out_dir_ + "/coverage_map.png");
   return s_;
 }
 
@@ -277,8 +312,12 @@ void ExploreRun::onRobotStep()
 void ExploreRun::reportStep(const exploration::PlanResult& plan, double plan_ms)
 {
   const double coverage = plan.ground ? coverageOf(*plan.ground) : 0.0;
+  const double coverage_planner =
+      plan.ground
+          ? explore_detail::coverage2d(*plan.ground, gt_floor_planner_.free_floor, T_world_map_)
+          : 0.0;
   if (plan.ground) last_ground_ = plan.ground;
-  writeCoverageRow(plan, coverage);
+  writeCoverageRow(plan, coverage, coverage_planner);
   if (cfg_.explore.write_step_images) writeStepImage(plan);
   if (quiet_) return;
   std::cout << mrpt::format(

@@ -9,6 +9,7 @@
 #include <voxplore/mapping/SlamIcp.h>
 #include <voxplore/navigation/StopAndScanDriver.h>
 #include <voxplore/sim/SimConfig.h>
+#include <voxplore/sim/footprint_reach.h>
 #include <voxplore/sim/ground_truth.h>
 
 #include <fstream>
@@ -66,8 +67,12 @@ class ExploreRun
   void reportStep(const exploration::PlanResult& plan, double plan_ms);
   // --- outputs and metrics (ExploreApp_outputs.cpp) ---
   void openOutputs();
-  void writeCoverageRow(const exploration::PlanResult& plan, double coverage);
+  /// Computes the three ground-truth floors (coverage_2d and the circle figures).
+  void computeGroundTruthFloor(const Eigen::AlignedBox2d* region);
+  void writeCoverageRow(const exploration::PlanResult& plan, double coverage,
+                        double coverage_planner_circle);
   void writeStepImage(const exploration::PlanResult& plan);
+  /// coverage_2d of `g`: the share of gt_floor_ known as free.
   double coverageOf(const exploration::GroundGrid& g) const;
   void finish();
   void saveMapsAfterFailure() noexcept;
@@ -81,8 +86,9 @@ class ExploreRun
   std::unique_ptr<navigation::StopAndScanDriver> driver_;
   mapping::SlamIcp slam_;
   mrpt::poses::CPose2D T_world_map_;  ///< the robot's true start pose
-  sim::ReachableFloor gt_floor_;       ///< reachable for the planner's collision radius (coverage_2d)
-  sim::ReachableFloor gt_floor_body_;  ///< reachable for the bare circumcircle (coverage_2d_circumradius)
+  sim::FootprintReach gt_floor_;          ///< reachable or seen by the real footprint (coverage_2d)
+  sim::ReachableFloor gt_floor_planner_;  ///< reachable for the planner's collision radius (coverage_2d_planner_circle)
+  sim::ReachableFloor gt_floor_body_;     ///< reachable for the bare circumcircle (coverage_2d_circumradius)
   std::shared_ptr<const exploration::GroundGrid> last_ground_;  ///< G of the last plan (coverage_map.png)
 
   // pose estimate between stops: SLAM pose at the last stop + odometry since

@@ -278,6 +278,20 @@ std::vector<VoxelIndex> occupiedVoxels(const TriangleMesh& mesh, double res_m, d
   return out;
 }
 
+FloorGrid obstacleFloorGrid(const World& world, const CollisionChecker& checker,
+                            const mrpt::poses::CPose2D& start, double res_m,
+                            const Eigen::AlignedBox2d* region)
+{
+  ASSERTMSG_(res_m > 0, mrpt::format("obstacleFloorGrid: resolution must be > 0, got %g", res_m));
+  FloorGrid g = makeFloorGrid(world, start, res_m);
+  markObstacles(checker, g);
+  if (region)
+    for (int iy = 0; iy < g.ny; ++iy)
+      for (int ix = 0; ix < g.nx; ++ix)
+        if (!region->contains(g.center(ix, iy))) g.at(ix, iy) = 1;
+  return g;
+}
+
 ReachableFloor reachableFreeFloor(const World& world, const CollisionChecker& checker,
                                   const mrpt::poses::CPose2D& start, double robot_radius_m,
                                   double res_m, const Eigen::AlignedBox2d* region)
@@ -286,12 +300,7 @@ ReachableFloor reachableFreeFloor(const World& world, const CollisionChecker& ch
   ASSERTMSG_(robot_radius_m >= 0,
              mrpt::format("reachableFreeFloor: robot radius must be >= 0, got %g", robot_radius_m));
   ReachableFloor r;
-  r.obstacle = makeFloorGrid(world, start, res_m);
-  markObstacles(checker, r.obstacle);
-  if (region)
-    for (int iy = 0; iy < r.obstacle.ny; ++iy)
-      for (int ix = 0; ix < r.obstacle.nx; ++ix)
-        if (!region->contains(r.obstacle.center(ix, iy))) r.obstacle.at(ix, iy) = 1;
+  r.obstacle = obstacleFloorGrid(world, checker, start, res_m, region);
   r.reachable = emptyGridLike(r.obstacle);
   r.free_floor = emptyGridLike(r.obstacle);
   const FloorGrid& obs = r.obstacle;

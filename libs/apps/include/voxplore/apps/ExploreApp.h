@@ -20,6 +20,8 @@ struct ExploreParams : public mrpt::config::CLoadableOptions
   bool write_step_images = true;    ///< steps/step_NNN.png (renderPlan) at every step
   int step_image_scale = 4;         ///< pixels per grid cell of the step images
   double gt_floor_res_m = 0.05;     ///< resolution of the ground-truth free floor (coverage_2d) [m]
+  int coverage_yaw_bins = 72;       ///< coverage_2d: yaw bins over [0, 180) deg of the footprint's configuration space (2..128)
+  double coverage_view_range_m = 3.0;  ///< coverage_2d: free floor in 2D line of sight of a footprint-reachable centre up to this distance counts [m]; 0 = only the floor the body covers
   double band_z_min_m = 0.10;       ///< coverage_3d: ground-truth surface voxels from this height [m]
   double band_z_max_m = 0.60;       ///< ... up to this height (the cameras' band) [m]
   /// Bound the exploration and the ground-truth free floor to the world's
@@ -60,7 +62,8 @@ struct ExploreSummary
   std::size_t failed_drives = 0;   ///< waypoints not reached (Blocked / Timeout / Error)
   std::size_t blacklisted = 0;     ///< targets given up
   double path_length_m = 0;        ///< ground-truth distance travelled [m]
-  double coverage_2d = 0;          ///< share of the reachable GT free floor the map knows as free
+  double coverage_2d = 0;          ///< share of the GT free floor the robot's footprint reaches or sees (floor_reachable_m2) that the map knows as free
+  double coverage_2d_planner_circle = 0;  ///< the same share of the floor the planner's collision circle (r_coll + sqrt(2) l_res) reaches
   double coverage_3d = 0;          ///< share of GT surface voxels in the band seen occupied
   double map_precision = 0;        ///< share of occupied map voxels within one voxel of a surface
   double map_precision_above_floor = 0;  ///< the same for voxels above the floor (z > l_res)
@@ -69,7 +72,10 @@ struct ExploreSummary
   double ate_rmse_m = 0;           ///< absolute trajectory error of the SLAM poses at stops [m]
   double compute_s = 0;            ///< wall time of SLAM + planning [s]
   double sim_time_s = 0;           ///< simulated time [s]
-  double coverage_2d_circumradius = 0;  ///< coverage_2d of the floor the bare circumcircle reaches (passages narrower than the planner's radius included)
+  double coverage_2d_circumradius = 0;  ///< the same share of the floor the bare circumcircle reaches (passages narrower than the planner's radius included)
+  double floor_reachable_m2 = 0;   ///< GT free floor the footprint (rotated rectangle, position x yaw) reaches or sees from there [m^2]
+  double floor_reachable_planner_circle_m2 = 0;  ///< GT free floor the planner's circle reaches [m^2]
+  double floor_reachable_circumradius_m2 = 0;    ///< GT free floor the bare circumcircle reaches [m^2]
   double peak_rss_mb = 0;          ///< peak resident memory of the process (VmHWM) [MiB]
 };
 

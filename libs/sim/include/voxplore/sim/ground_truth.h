@@ -52,6 +52,14 @@ struct ReachableFloor
   double free_floor_area_m2 = 0;  ///< area of `free_floor`
 };
 
+/// @brief The floor grid of reachableFreeFloor (the mesh bounds plus one cell,
+///        or around `start` for an empty world) with 1 where a cell's square
+///        touches an obstacle polygon of `checker` and, with `region`, where a
+///        cell's centre lies outside it.
+FloorGrid obstacleFloorGrid(
+    const World& world, const CollisionChecker& checker, const mrpt::poses::CPose2D& start,
+    double res_m = 0.05, const Eigen::AlignedBox2d* region = nullptr);
+
 /// @brief Computes the free floor reachable from `start` for a robot of radius
 ///        `robot_radius_m`: obstacle cells from the checker's slab (distance
 ///        transform, no per-cell disc loop), then a flood fill from the start cell.
