@@ -45,6 +45,9 @@ COST_KEYS = ("wall_s", "cpu_s", "peak_rss_mb")
 
 # --- reading ---------------------------------------------------------------
 
+# Two runs "ended at equal coverage" when their coverage_2d differ by at most this.
+EQUAL_COVERAGE = 0.05
+
 def read_text(path):
     try:
         with open(path, encoding="utf-8", errors="replace") as f:
@@ -581,6 +584,7 @@ def write_report(camp, runs, cov_keys):
         pairs.setdefault((j["world_path"] or j["world"], j["robot"], j["seed"], j["extra_args"]),
                          {})[j["strategy"]] = r
     prow, ratios = [], []
+    by_robot, equal_cov = {}, {}
     for (world, robot, seed, extra), d in pairs.items():
         a, b = d.get("nbv"), d.get("nearest")
         if not a or not b:
@@ -589,6 +593,10 @@ def write_report(camp, runs, cov_keys):
         ratio = pa / pb if a["ok"] and b["ok"] and pa is not None and pb else None
         if ratio is not None:
             ratios.append(ratio)
+            ca, cb = finite(value(a, "coverage_2d")), finite(value(b, "coverage_2d"))
+            by_robot.setdefault(robot, []).append(ratio)
+            if ca is not None and cb is not None and abs(ca - cb) <= EQUAL_COVERAGE:
+                equal_cov.setdefault(robot, []).append(ratio)
         name = a["job"]["world"] + (" " + extra if extra else "")
         prow.append([name, robot, seed,
                      fmt(pa, "path_length_m") if a["ok"] else "failed",
@@ -604,6 +612,21 @@ def write_report(camp, runs, cov_keys):
                          statistics.fmean(ratios), max(ratios), min(ratios), len(ratios))
                      if ratios else "No pair has two successful runs."))
         L.append("")
+        # One run that goes nowhere (a ratio near 0 or in the hundreds) dominates a mean:
+        # the medians, and the pairs that ended at about the same coverage, say more.
+        srow = []
+        for robot in sorted(by_robot):
+            rs, eq = by_robot[robot], equal_cov.get(robot, [])
+            srow.append([robot, str(len(rs)), "%.3f" % statistics.median(rs),
+                         "%.3f" % statistics.fmean(rs), "%.3f" % max(rs),
+                         "%d" % len(eq),
+                         ("%.3f / %.3f / %.3f" % (statistics.median(eq), statistics.fmean(eq), max(eq)))
+                         if eq else "-"])
+        if srow:
+            L.append(md_table(["robot", "pairs", "median nbv/nearest", "mean", "worst",
+                               "pairs at equal coverage (within %.2f)" % EQUAL_COVERAGE,
+                               "their median / mean / worst"], srow))
+            L.append("")
         L.append(md_table(["world", "robot", "seed", "nbv path [m]", "nearest path [m]",
                            "nbv/nearest", "nbv coverage_2d", "nearest coverage_2d"], prow))
     else:
