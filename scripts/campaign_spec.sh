@@ -29,8 +29,8 @@ Options:
   --worldgen-config INI  passed to voxplore-worldgen --config
   --with-extra-worlds    append simulated_worlds/office.world (every robot and strategy),
                          the shared worlds of simulated_worlds/shared_world_starts.txt
-                         (the robot each line names, every strategy, its start as
-                         --start x,y,yaw) and willowgarage (compact, --start -10,5,0,
+                         (every robot and strategy, its start as
+                         --start x,y,yaw) and willowgarage (every robot, --start -10,5,0,
                          every strategy). The shared worlds are under ../shared/worlds
                          (relative to the repository); when that is missing they are
                          skipped with a warning.
@@ -169,14 +169,18 @@ if [ "$EXTRA" -eq 1 ]; then
     fi
     entries+=("willowgarage/willowgarage_flat_collision.obj -10 5 0 compact")
     for e in "${entries[@]}"; do
-      read -r rel x y yaw rb <<< "$e"
+      read -r rel x y yaw _robot <<< "$e"
       world="$shared/$rel"
       if [ ! -f "$world" ]; then
         echo "campaign_spec.sh: warning: no $world, skipped" >&2
         continue
       fi
-      for st in "${strategies[@]}"; do
-        lines+=("$(spec_path "$world") $rb $st $RUN_SEED --start $x,$y,$yaw")
+      # Every robot: the starts are free for a 2 x 2 m footprint (the line's
+      # robot is the one voxplore-bench 'strategies' runs).
+      for r in "${robots[@]}"; do
+        for st in "${strategies[@]}"; do
+          lines+=("$(spec_path "$world") $r $st $RUN_SEED --start $x,$y,$yaw")
+        done
       done
     done
   fi
