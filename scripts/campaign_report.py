@@ -165,6 +165,7 @@ def collect(camp, jobs):
         # Floor area: the summary's reachable floor, else the generator's floor area.
         path = finite(summary.get("path_length_m"))
         r["building_floor_area_m2"] = finite((building or {}).get("floor_area_m2"))
+        r["layout"] = str((building or {}).get("layout") or "")
         area, source = None, ""
         if finite(summary.get("floor_reachable_m2")):
             area, source = finite(summary["floor_reachable_m2"]), "floor_reachable_m2"
@@ -218,7 +219,7 @@ def write_runs_csv(camp, runs):
     cov, m2, other = summary_columns(runs)
     header = (["world", "robot", "strategy", "seed", "extra_args", "exit_status", "error"]
               + list(HEAD_KEYS) + cov + m2
-              + ["building_floor_area_m2", "path_per_m2", "floor_source"] + list(TAIL_KEYS) + other
+              + ["building_floor_area_m2", "layout", "path_per_m2", "floor_source"] + list(TAIL_KEYS) + other
               + ["path_to_90_m", "time_to_90_s", "path_to_97_m", "time_to_97_s"]
               + list(COST_KEYS) + ["run_dir"])
     with open(os.path.join(camp, "runs.csv"), "w", newline="") as f:
@@ -229,7 +230,7 @@ def write_runs_csv(camp, runs):
             row = [j["world"], j["robot"], j["strategy"], j["seed"], j["extra_args"],
                    r["exit_status"], r["error"]]
             row += [s.get(k) for k in HEAD_KEYS] + [s.get(k) for k in cov] + [s.get(k) for k in m2]
-            row += [r["building_floor_area_m2"], r["path_per_m2"], r["floor_source"]]
+            row += [r["building_floor_area_m2"], r["layout"], r["path_per_m2"], r["floor_source"]]
             row += [s.get(k) for k in TAIL_KEYS] + [s.get(k) for k in other]
             for x in (90, 97):
                 hit = r["reach_%d" % x]
@@ -574,6 +575,37 @@ def write_report(camp, runs, cov_keys):
                  ", ".join("%d runs from %s" % (c, s) for s, c in sorted(sources.items()))
                  if sources else "no run has either, so there is no path per m2"))
     L.append("")
+
+    # By layout: the generated buildings only (their building.json names the layout).
+    layouts = sorted({r["layout"] for r in runs if r["layout"]})
+    if layouts:
+        L.append("## By layout (generated buildings)")
+        L.append("")
+        L.append("Mean over the successful runs of each layout, strategy and robot (max for ATE and "
+                 "collisions, min for clearance).")
+        L.append("")
+        lrow = []
+        for lay in layouts:
+            for (strategy, robot), _ in groups:
+                rs = [r for r in runs if r["layout"] == lay and r["ok"]
+                      and r["job"]["strategy"] == strategy and r["job"]["robot"] == robot]
+                if not rs:
+                    continue
+                def vals(k):
+                    return [v for v in (finite(value(r, k)) for r in rs) if v is not None]
+                def agg(k, f):
+                    v = vals(k)
+                    return fmt(f(v), k) if v else "-"
+                ppm = [r["path_per_m2"] for r in rs if r["path_per_m2"] is not None]
+                lrow.append([lay, strategy, robot, str(len(rs)),
+                             agg("coverage_2d", statistics.fmean), agg("ate_rmse_m", statistics.fmean),
+                             agg("ate_rmse_m", max), agg("map_precision_above_floor", statistics.fmean),
+                             "%.3f" % statistics.fmean(ppm) if ppm else "-",
+                             agg("collisions", max), agg("min_clearance_m", min)])
+        L.append(md_table(["layout", "strategy", "robot", "runs", "coverage_2d", "ATE mean [m]",
+                           "ATE max [m]", "precision above floor", "path per m2", "collisions (max)",
+                           "min clearance [m]"], lrow))
+        L.append("")
 
     # Paired nbv / nearest.
     L.append("## nbv / nearest, paired")
