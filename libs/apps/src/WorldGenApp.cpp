@@ -1,5 +1,4 @@
 #include <mrpt/3rdparty/tclap/CmdLine.h>
-#include <mrpt/config/CConfigFileMemory.h>
 #include <mrpt/core/bits_math.h>
 #include <voxplore/apps/WorldGenApp.h>
 #include <voxplore/apps/app_common.h>
@@ -41,10 +40,9 @@ sim::WorldGenParams loadParams(const WorldGenOptions& o)
   }
   if (o.layout)
   {
-    mrpt::config::CConfigFileMemory mem;
-    p.saveToConfigFile(mem, "worldgen");
-    mem.write("worldgen", "layout", *o.layout);
-    p.loadFromConfigFile(mem, "worldgen");  // validates the layout name
+    p.layout = *o.layout;
+    if (const auto [key, why] = p.firstInvalid(); key == "layout")
+      throw std::runtime_error("--layout '" + *o.layout + "': " + why);
   }
   return p;
 }
@@ -100,7 +98,7 @@ WorldGenSummary WorldGenApp::execute(const WorldGenOptions& o)
   s.layout = b.layout;
   s.floor_area_m2 = b.floor_area_m2;
   s.doors = b.doors.size();
-  for (const auto& r : b.regions) s.rooms += r.kind == sim::GenRegion::Kind::Room;
+  s.rooms = b.roomCount();
   writeText(s.world_path, sim::buildingWorldJson(b));
   writeText(s.truth_path, sim::buildingGroundTruthJson(b));
 

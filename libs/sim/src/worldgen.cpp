@@ -1,8 +1,5 @@
 /* voxplore — procedural buildings: parameters, layouts, doors, walls. */
 
-#include <mrpt/config/CConfigFileBase.h>
-#include <voxplore/common/config.h>
-
 #include <algorithm>
 #include <map>
 #include <set>
@@ -12,90 +9,6 @@
 
 namespace voxplore::sim
 {
-void WorldGenParams::loadFromConfigFile(const mrpt::config::CConfigFileBase& c, const std::string& s)
-{
-  MRPT_LOAD_CONFIG_VAR(layout, string, c, s);
-  MRPT_LOAD_CONFIG_VAR(min_floor_m2, double, c, s);
-  MRPT_LOAD_CONFIG_VAR(max_floor_m2, double, c, s);
-  MRPT_LOAD_CONFIG_VAR(min_side_m, double, c, s);
-  MRPT_LOAD_CONFIG_VAR(max_side_m, double, c, s);
-  MRPT_LOAD_CONFIG_VAR(rooms, int, c, s);
-  MRPT_LOAD_CONFIG_VAR(corridor_width_min_m, double, c, s);
-  MRPT_LOAD_CONFIG_VAR(corridor_width_max_m, double, c, s);
-  MRPT_LOAD_CONFIG_VAR(room_depth_min_m, double, c, s);
-  MRPT_LOAD_CONFIG_VAR(room_depth_max_m, double, c, s);
-  MRPT_LOAD_CONFIG_VAR(room_width_min_m, double, c, s);
-  MRPT_LOAD_CONFIG_VAR(room_width_max_m, double, c, s);
-  MRPT_LOAD_CONFIG_VAR(door_width_min_m, double, c, s);
-  MRPT_LOAD_CONFIG_VAR(door_width_max_m, double, c, s);
-  MRPT_LOAD_CONFIG_VAR(wide_opening_share, double, c, s);
-  MRPT_LOAD_CONFIG_VAR(wide_opening_min_m, double, c, s);
-  MRPT_LOAD_CONFIG_VAR(wide_opening_max_m, double, c, s);
-  MRPT_LOAD_CONFIG_VAR(wall_thickness_m, double, c, s);
-  MRPT_LOAD_CONFIG_VAR(wall_height_m, double, c, s);
-  MRPT_LOAD_CONFIG_VAR(furniture, bool, c, s);
-  MRPT_LOAD_CONFIG_VAR(furniture_density, double, c, s);
-  MRPT_LOAD_CONFIG_VAR(featureless_corridor_m, double, c, s);
-  MRPT_LOAD_CONFIG_VAR(look_alike_rooms, bool, c, s);
-  using common::requireValid;
-  static const std::set<std::string> kLayouts{"corridor", "ring", "branching", "hall", "mixed"};
-  requireValid(kLayouts.count(layout) > 0, c, s, "layout",
-               "must be corridor, ring, branching, hall or mixed");
-  requireValid(min_floor_m2 > 0 && min_floor_m2 <= max_floor_m2, c, s, "min_floor_m2",
-               "must be positive and <= max_floor_m2");
-  requireValid(min_side_m >= 8 && min_side_m <= max_side_m, c, s, "min_side_m",
-               "must be >= 8 m and <= max_side_m");
-  requireValid(rooms >= 0, c, s, "rooms", "must be >= 0");
-  requireValid(corridor_width_min_m >= 1.0 && corridor_width_min_m <= corridor_width_max_m, c, s,
-               "corridor_width_min_m", "must be >= 1 m and <= corridor_width_max_m");
-  requireValid(room_depth_min_m >= 2.0 && room_depth_min_m <= room_depth_max_m, c, s,
-               "room_depth_min_m", "must be >= 2 m and <= room_depth_max_m");
-  requireValid(room_width_min_m >= 2.0 && room_width_min_m <= room_width_max_m, c, s,
-               "room_width_min_m", "must be >= 2 m and <= room_width_max_m");
-  requireValid(door_width_min_m >= 0.3 && door_width_min_m <= door_width_max_m, c, s,
-               "door_width_min_m", "must be >= 0.3 m and <= door_width_max_m");
-  requireValid(door_width_max_m <= room_width_min_m - 1.0, c, s, "door_width_max_m",
-               "must leave 0.5 m of wall on each side in the narrowest room (room_width_min_m - 1)");
-  requireValid(wide_opening_share >= 0 && wide_opening_share <= 1, c, s, "wide_opening_share",
-               "must be in [0, 1]");
-  requireValid(wide_opening_min_m <= wide_opening_max_m && wide_opening_max_m <= room_width_min_m - 1.0,
-               c, s, "wide_opening_max_m", "must be >= wide_opening_min_m and <= room_width_min_m - 1");
-  requireValid(wall_thickness_m > 0.02 && wall_thickness_m <= 0.5, c, s, "wall_thickness_m",
-               "must be in (0.02, 0.5] m");
-  requireValid(wall_height_m > 0.7, c, s, "wall_height_m", "must be above the robots (> 0.7 m)");
-  requireValid(furniture_density >= 0 && furniture_density <= 3, c, s, "furniture_density",
-               "must be in [0, 3]");
-  requireValid(featureless_corridor_m >= 0 && featureless_corridor_m <= 100, c, s,
-               "featureless_corridor_m", "must be in [0, 100] m");
-}
-
-void WorldGenParams::saveToConfigFile(mrpt::config::CConfigFileBase& c, const std::string& s) const
-{
-  MRPT_SAVE_CONFIG_VAR(layout, c, s);
-  MRPT_SAVE_CONFIG_VAR(min_floor_m2, c, s);
-  MRPT_SAVE_CONFIG_VAR(max_floor_m2, c, s);
-  MRPT_SAVE_CONFIG_VAR(min_side_m, c, s);
-  MRPT_SAVE_CONFIG_VAR(max_side_m, c, s);
-  MRPT_SAVE_CONFIG_VAR(rooms, c, s);
-  MRPT_SAVE_CONFIG_VAR(corridor_width_min_m, c, s);
-  MRPT_SAVE_CONFIG_VAR(corridor_width_max_m, c, s);
-  MRPT_SAVE_CONFIG_VAR(room_depth_min_m, c, s);
-  MRPT_SAVE_CONFIG_VAR(room_depth_max_m, c, s);
-  MRPT_SAVE_CONFIG_VAR(room_width_min_m, c, s);
-  MRPT_SAVE_CONFIG_VAR(room_width_max_m, c, s);
-  MRPT_SAVE_CONFIG_VAR(door_width_min_m, c, s);
-  MRPT_SAVE_CONFIG_VAR(door_width_max_m, c, s);
-  MRPT_SAVE_CONFIG_VAR(wide_opening_share, c, s);
-  MRPT_SAVE_CONFIG_VAR(wide_opening_min_m, c, s);
-  MRPT_SAVE_CONFIG_VAR(wide_opening_max_m, c, s);
-  MRPT_SAVE_CONFIG_VAR(wall_thickness_m, c, s);
-  MRPT_SAVE_CONFIG_VAR(wall_height_m, c, s);
-  MRPT_SAVE_CONFIG_VAR(furniture, c, s);
-  MRPT_SAVE_CONFIG_VAR(furniture_density, c, s);
-  MRPT_SAVE_CONFIG_VAR(featureless_corridor_m, c, s);
-  MRPT_SAVE_CONFIG_VAR(look_alike_rooms, c, s);
-}
-
 namespace
 {
 using namespace worldgen_detail;
@@ -409,125 +322,6 @@ void placeDoors(GeneratedBuilding& b, const WorldGenParams& p, double t, Rng& rn
   b.regions = std::move(kept);
 }
 
-/// Walls: the edges between cells of different regions (or a region and the
-/// outside) on the lattice, merged into runs, cut at the doors. A run's own
-/// ends reach half a wall thickness past the corner so that walls close;
-/// door jambs end exactly at the opening.
-void buildWalls(GeneratedBuilding& b, double t)
-{
-  Rect2 bb{1e9, 1e9, -1e9, -1e9};
-  for (const GenRegion& r : b.regions)
-    for (const Rect2& q : r.rects)
-      bb = {std::min(bb.x0, q.x0), std::min(bb.y0, q.y0), std::max(bb.x1, q.x1), std::max(bb.y1, q.y1)};
-  b.bounds = bb;
-  const int nx = static_cast<int>(std::lround(bb.width() / kLattice));
-  const int ny = static_cast<int>(std::lround(bb.height() / kLattice));
-  std::vector<int> label(static_cast<std::size_t>(nx) * ny, 0);
-  for (const GenRegion& r : b.regions)
-    for (const Rect2& q : r.rects)
-      for (int iy = static_cast<int>(std::lround((q.y0 - bb.y0) / kLattice));
-           iy < static_cast<int>(std::lround((q.y1 - bb.y0) / kLattice)); iy++)
-        for (int ix = static_cast<int>(std::lround((q.x0 - bb.x0) / kLattice));
-             ix < static_cast<int>(std::lround((q.x1 - bb.x0) / kLattice)); ix++)
-          label[static_cast<std::size_t>(iy) * nx + ix] = r.id;
-  const auto at = [&](int ix, int iy)
-  { return (ix < 0 || iy < 0 || ix >= nx || iy >= ny) ? 0 : label[static_cast<std::size_t>(iy) * nx + ix]; };
-
-  // One pass per orientation: `line` indexes the lattice lines, `s` the cells along them.
-  for (const bool along_x : {true, false})
-  {
-    const int n_lines = along_x ? ny : nx, n_cells = along_x ? nx : ny;
-    for (int line = 0; line <= n_lines; line++)
-    {
-      const double c = along_x ? bb.y0 + line * kLattice : bb.x0 + line * kLattice;
-      std::vector<GenDoor*> doors_here;
-      for (GenDoor& d : b.doors)
-        if (d.along_x == along_x && std::abs((along_x ? d.center.y() : d.center.x()) - c) < 1e-6)
-          doors_here.push_back(&d);
-      for (int s = 0; s < n_cells;)
-      {
-        const auto wall = [&](int k)
-        {
-          return along_x ? at(k, line - 1) != at(k, line) : at(line - 1, k) != at(line, k);
-        };
-        if (!wall(s))
-        {
-          s++;
-          continue;
-        }
-        int e = s;
-        while (e < n_cells && wall(e)) e++;
-        const double base = along_x ? bb.x0 : bb.y0;
-        // [lo, hi] with flags telling whether each end is a run end (extend) or a jamb.
-        std::vector<std::pair<double, bool>> cuts{{base + s * kLattice, true}};
-        std::vector<std::pair<double, double>> gaps;
-        for (const GenDoor* d : doors_here)
-        {
-          const double m = along_x ? d->center.x() : d->center.y();
-          if (m > base + s * kLattice && m < base + e * kLattice)
-            gaps.emplace_back(m - 0.5 * d->width_m, m + 0.5 * d->width_m);
-        }
-        std::sort(gaps.begin(), gaps.end());
-        double lo = base + s * kLattice;
-        bool lo_ext = true;
-        const auto emit = [&](double a, bool ext_a, double z, bool ext_z)
-        {
-          a -= ext_a ? 0.5 * t : 0.0;
-          z += ext_z ? 0.5 * t : 0.0;
-          if (z - a < 1e-6) return;
-          GenWall w;
-          w.from = along_x ? Eigen::Vector2d(a, c) : Eigen::Vector2d(c, a);
-          w.to = along_x ? Eigen::Vector2d(z, c) : Eigen::Vector2d(c, z);
-          b.walls.push_back(w);
-        };
-        for (const auto& [g0, g1] : gaps)
-        {
-          emit(lo, lo_ext, g0, false);
-          lo = g1;
-          lo_ext = false;
-        }
-        emit(lo, lo_ext, base + e * kLattice, true);
-        s = e;
-      }
-    }
-  }
-}
-
-/// Free floor: region cells (on a lattice of half the layout's) outside every wall.
-double floorArea(const GeneratedBuilding& b, double t)
-{
-  const double res = 0.5 * kLattice;
-  const Rect2& bb = b.bounds;
-  const int nx = static_cast<int>(std::lround(bb.width() / res)) + 1;
-  const int ny = static_cast<int>(std::lround(bb.height() / res)) + 1;
-  std::vector<uint8_t> cell(static_cast<std::size_t>(nx) * ny, 0);  // 1 floor, 2 wall
-  const auto paint = [&](const Rect2& q, uint8_t v, bool only_floor)
-  {
-    // cells whose centre lies inside q
-    const int ix0 = std::max(0, static_cast<int>(std::ceil((q.x0 - bb.x0) / res - 0.5)));
-    const int ix1 = std::min(nx - 1, static_cast<int>(std::floor((q.x1 - bb.x0) / res - 0.5)));
-    const int iy0 = std::max(0, static_cast<int>(std::ceil((q.y0 - bb.y0) / res - 0.5)));
-    const int iy1 = std::min(ny - 1, static_cast<int>(std::floor((q.y1 - bb.y0) / res - 0.5)));
-    for (int iy = iy0; iy <= iy1; iy++)
-      for (int ix = ix0; ix <= ix1; ix++)
-      {
-        uint8_t& c = cell[static_cast<std::size_t>(iy) * nx + ix];
-        if (!only_floor || c == 1) c = v;
-      }
-  };
-  for (const GenRegion& r : b.regions)
-    for (const Rect2& q : r.rects) paint(q, 1, false);
-  for (const GenWall& w : b.walls)
-  {
-    const bool ax = std::abs(w.from.y() - w.to.y()) < 1e-9;
-    const double x0 = std::min(w.from.x(), w.to.x()), x1 = std::max(w.from.x(), w.to.x());
-    const double y0 = std::min(w.from.y(), w.to.y()), y1 = std::max(w.from.y(), w.to.y());
-    paint(ax ? Rect2{x0, y0 - 0.5 * t, x1, y1 + 0.5 * t} : Rect2{x0 - 0.5 * t, y0, x1 + 0.5 * t, y1},
-          2, true);
-  }
-  return res * res * static_cast<double>(std::count(cell.begin(), cell.end(), uint8_t{1}));
-}
-
 /// The start: on the first corridor's centre line, 2.5 m in from its west /
 /// south end, facing along it (free for the omniRob in any corridor at least
 /// 0.8 m wide).
@@ -545,20 +339,16 @@ Eigen::Vector3d startPose(const GeneratedBuilding& b)
 
 }  // namespace
 
+std::size_t GeneratedBuilding::roomCount() const
+{
+  return static_cast<std::size_t>(std::count_if(regions.begin(), regions.end(), [](const GenRegion& r)
+                                                { return r.kind == GenRegion::Kind::Room; }));
+}
+
 GeneratedBuilding generateBuilding(const WorldGenParams& params, uint64_t seed)
 {
-  const auto require = [](bool ok, const std::string& what)
-  {
-    if (!ok) throw std::invalid_argument("[worldgen] " + what);
-  };
-  require(params.min_floor_m2 > 0 && params.min_floor_m2 <= params.max_floor_m2,
-          "min_floor_m2 must be positive and <= max_floor_m2");
-  require(params.min_side_m >= 8 && params.min_side_m <= params.max_side_m,
-          "min_side_m must be >= 8 m and <= max_side_m");
-  require(params.door_width_min_m > 0 && params.door_width_min_m <= params.door_width_max_m,
-          "door_width_min_m must be positive and <= door_width_max_m");
-  require(params.door_width_max_m <= params.room_width_min_m - 1.0,
-          "door_width_max_m must be <= room_width_min_m - 1 m");
+  if (const auto [key, why] = params.firstInvalid(); !key.empty())
+    throw std::invalid_argument("[worldgen] " + key + ": " + why);
   Rng rng(seed * 0x9E3779B97F4A7C15ULL + 0x5EED);
   GeneratedBuilding b;
   b.seed = seed;
@@ -579,8 +369,7 @@ GeneratedBuilding generateBuilding(const WorldGenParams& params, uint64_t seed)
   else if (b.layout == "hall")
     layoutHall(lb, rng);
   else
-    throw std::invalid_argument("[worldgen] layout '" + params.layout +
-                                "' is not corridor, ring, branching, hall or mixed");
+    throw std::logic_error("[worldgen] layout '" + b.layout + "' passed firstInvalid()");
   placeDoors(b, params, lb.t(), rng);
   buildWalls(b, lb.t());
   if (params.furniture && params.furniture_density > 0) furnish(b, rng);

@@ -43,6 +43,14 @@ inline bool contains(const Rect2& outer, const Rect2& inner, double eps = 1e-9)
          inner.y1 <= outer.y1 + eps;
 }
 
+/// @brief Walls: the edges between cells of different regions (or a region and
+///        the outside) on the lattice, merged into runs and cut at the doors;
+///        sets `b.walls` and `b.bounds`. `t` is the wall thickness.
+void buildWalls(GeneratedBuilding& b, double t);
+
+/// @brief Free floor inside the walls [m^2] (furniture not subtracted).
+double floorArea(const GeneratedBuilding& b, double t);
+
 /// @brief Furniture for every room and hall of `b` (doors already placed).
 void furnish(GeneratedBuilding& b, Rng& rng);
 

@@ -52,12 +52,10 @@ std::string buildingWorldJson(const GeneratedBuilding& b)
 {
   const WorldGenParams& p = b.params;
   std::ostringstream o;
-  std::size_t rooms = 0;
-  for (const GenRegion& r : b.regions) rooms += r.kind == GenRegion::Kind::Room;
   o << "{\n  \"name\": " << str("building_" + std::to_string(b.seed)) << ",\n";
   o << "  \"description\": "
     << str("voxplore-worldgen seed " + std::to_string(b.seed) + ": " + b.layout + " layout, " +
-           std::to_string(rooms) + " rooms, " + std::to_string(b.doors.size()) + " doors, " +
+           std::to_string(b.roomCount()) + " rooms, " + std::to_string(b.doors.size()) + " doors, " +
            num(b.floor_area_m2) + " m2 of floor inside " + num(b.bounds.width()) + " x " +
            num(b.bounds.height()) + " m. Ground truth in building.json.")
     << ",\n";
@@ -103,9 +101,7 @@ std::string buildingGroundTruthJson(const GeneratedBuilding& b)
     << ",\n  \"layout\": " << str(b.layout) << ",\n  \"floor_area_m2\": " << num(b.floor_area_m2)
     << ",\n  \"bounds\": " << rect(b.bounds) << ",\n  \"start\": [" << num(b.start.x()) << ", "
     << num(b.start.y()) << ", " << num(b.start.z()) << "],\n";
-  std::size_t rooms = 0;
-  for (const GenRegion& r : b.regions) rooms += r.kind == GenRegion::Kind::Room;
-  o << "  \"rooms\": " << rooms << ",\n  \"regions\": [\n";
+  o << "  \"rooms\": " << b.roomCount() << ",\n  \"regions\": [\n";
   const double t = b.params.wall_thickness_m;
   for (std::size_t i = 0; i < b.regions.size(); i++)
   {

@@ -15,6 +15,7 @@
 #include <Eigen/Core>
 #include <cstdint>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace voxplore::sim
@@ -45,6 +46,11 @@ struct WorldGenParams : public mrpt::config::CLoadableOptions
   double furniture_density = 1.0;     ///< scales the items per room (0 = none)
   double featureless_corridor_m = 0;  ///< corridor / branching: a blank corridor stretch this long at the east end [m]
   bool look_alike_rooms = false;      ///< all rooms the same size and furniture (false loop closures)
+
+  /// @brief The first parameter out of range, as {key, why}; {"", ""} when all
+  ///        are valid. The one set of rules behind loadFromConfigFile() (which
+  ///        names the file) and generateBuilding().
+  std::pair<std::string, std::string> firstInvalid() const;
 
   void loadFromConfigFile(const mrpt::config::CConfigFileBase& c, const std::string& s) override;
   void saveToConfigFile(mrpt::config::CConfigFileBase& c, const std::string& s) const override;
@@ -117,10 +123,13 @@ struct GeneratedBuilding
   Eigen::Vector3d start{0, 0, 0};  ///< x, y, yaw_deg: in a corridor, free for the omniRob
   Rect2 bounds;                    ///< the outer wall lines
   double floor_area_m2 = 0;        ///< free floor inside the walls (furniture not subtracted)
+
+  /// @brief Number of regions of kind Room.
+  std::size_t roomCount() const;
 };
 
-/// @brief Draws a building. @throws std::invalid_argument for contradictory
-///        parameters (e.g. min > max), naming the keys.
+/// @brief Draws a building. @throws std::invalid_argument for parameters
+///        WorldGenParams::firstInvalid() rejects, naming the key.
 GeneratedBuilding generateBuilding(const WorldGenParams& params, uint64_t seed);
 
 /// @brief The building as a `.world` JSON text (format: world_loading.h).
