@@ -17,17 +17,6 @@ namespace
 using Vec2 = Eigen::Vector2d;
 using BinMask = std::array<uint64_t, 2>;
 
-/// Squared distance in cells from every cell to the nearest cell whose
-/// value is (non-zero == value).
-std::vector<double> squaredDistanceTo(const FloorGrid& g, bool value)
-{
-  std::vector<double> d(g.cells.size());
-  for (std::size_t i = 0; i < d.size(); ++i)
-    d[i] = (g.cells[i] != 0) == value ? 0.0 : common::kEdtFar;
-  common::squaredDistanceTransform(d, g.nx, g.ny);
-  return d;
-}
-
 /// x range [xl, xr] of the convex polygon on the line at height y; false when it misses.
 bool rowSpan(const std::vector<Vec2>& poly, double y, double& xl, double& xr)
 {
@@ -125,8 +114,8 @@ void sweepFloor(FootprintReach& r, const Footprint& fp)
 {
   const FloorGrid& R = r.reachable;
   const double res = R.res_m, hw = 0.5 * fp.width_m;
-  const std::vector<double> d_reach = squaredDistanceTo(R, true);
-  const std::vector<double> d_out = squaredDistanceTo(R, false);
+  const std::vector<double> d_reach = R.squaredCellDistance(true);
+  const std::vector<double> d_out = R.squaredCellDistance(false);
   for (std::size_t i = 0; i < d_reach.size(); ++i)
     if (d_reach[i] <= std::pow(hw / res, 2) * (1 + 1e-9)) r.swept.cells[i] = 1;
   const auto stamps = rectangleStamps(fp, r, res);

@@ -370,11 +370,6 @@ void storeReachable(const std::vector<Mask>& reach, const Window& w, FootprintRe
       r.reachable.at(gx, gy) = reach[w.index(gx, gy)].any() ? 1 : 0;
 }
 
-double area(const FloorGrid& g)
-{
-  return static_cast<double>(std::count(g.cells.begin(), g.cells.end(), uint8_t{1})) * g.res_m *
-         g.res_m;
-}
 
 }  // namespace
 
@@ -408,8 +403,7 @@ FootprintReach footprintReachableFloor(const World& world, const CollisionChecke
   FootprintReach r;
   r.yaw_bins = params.yaw_bins;
   r.obstacle = obstacleFloorGrid(world, checker, start, params.res_m, region);
-  r.reachable = r.obstacle;
-  std::fill(r.reachable.cells.begin(), r.reachable.cells.end(), uint8_t{0});
+  r.reachable = r.obstacle.emptyLike();
   r.swept = r.visible = r.free_floor = r.reachable;
   const FloorGrid& g = r.obstacle;
   const int bins = params.yaw_bins;
@@ -439,8 +433,8 @@ FootprintReach footprintReachableFloor(const World& world, const CollisionChecke
     r.free_floor.cells[i] =
         g.cells[i] == 0 && (r.reachable.cells[i] | r.swept.cells[i] | r.visible.cells[i]) ? 1 : 0;
   }
-  r.reachable_area_m2 = area(r.reachable);
-  r.free_floor_area_m2 = area(r.free_floor);
+  r.reachable_area_m2 = r.reachable.areaM2();
+  r.free_floor_area_m2 = r.free_floor.areaM2();
   return r;
 }
 

@@ -123,26 +123,6 @@ void rasterizeTriangle(const Vec3& a, const Vec3& b, const Vec3& c, double res, 
   }
 }
 
-/// Exact squared Euclidean distance (in cells^2) from every cell to the
-/// nearest cell with `seed(cell)` true; about 1e20 when there is none.
-template <typename Pred>
-std::vector<double> squaredDistanceTransform(const FloorGrid& g, Pred seed)
-{
-  std::vector<double> d(g.cells.size());
-  for (int iy = 0; iy < g.ny; ++iy)
-    for (int ix = 0; ix < g.nx; ++ix)
-      d[static_cast<std::size_t>(iy) * g.nx + ix] = seed(ix, iy) ? 0.0 : common::kEdtFar;
-  if (g.nx > 0 && g.ny > 0) common::squaredDistanceTransform(d, g.nx, g.ny);
-  return d;
-}
-
-FloorGrid emptyGridLike(const FloorGrid& g)
-{
-  FloorGrid out = g;
-  std::fill(out.cells.begin(), out.cells.end(), uint8_t{0});
-  return out;
-}
-
 /// The grid over the mesh bounds plus one cell on every side (around the
 /// start alone when the mesh is empty).
 FloorGrid makeFloorGrid(const World& world, const mrpt::poses::CPose2D& start, double res)
@@ -214,11 +194,6 @@ void floodFill8(int sx, int sy, Pred passable, FloorGrid& out)
   }
 }
 
-double area(const FloorGrid& g)
-{
-  const auto n = std::count(g.cells.begin(), g.cells.end(), uint8_t{1});
-  return static_cast<double>(n) * g.res_m * g.res_m;
-}
 
 /// Sorts (x, then y, then z) and removes duplicates. Packs the indices into
 /// 64-bit keys (21 bits per axis) when the extent allows: about 3x faster.
@@ -278,6 +253,27 @@ std::vector<VoxelIndex> occupiedVoxels(const TriangleMesh& mesh, double res_m, d
   return out;
 }
 
+FloorGrid FloorGrid::emptyLike() const
+{
+  FloorGrid out = *this;
+  std::fill(out.cells.begin(), out.cells.end(), uint8_t{0});
+  return out;
+}
+
+double FloorGrid::areaM2() const
+{
+  return static_cast<double>(std::count(cells.begin(), cells.end(), uint8_t{1})) * res_m * res_m;
+}
+
+std::vector<double> FloorGrid::squaredCellDistance(bool to_nonzero) const
+{
+  std::vector<double> d(cells.size());
+  for (std::size_t i = 0; i < d.size(); ++i)
+    d[i] = (cells[i] != 0) == to_nonzero ? 0.0 : common::kEdtFar;
+  if (nx > 0 && ny > 0) common::squaredDistanceTransform(d, nx, ny);
+  return d;
+}
+
 FloorGrid obstacleFloorGrid(const World& world, const CollisionChecker& checker,
                             const mrpt::poses::CPose2D& start, double res_m,
                             const Eigen::AlignedBox2d* region)
@@ -301,8 +297,8 @@ ReachableFloor reachableFreeFloor(const World& world, const CollisionChecker& ch
              mrpt::format("reachableFreeFloor: robot radius must be >= 0, got %g", robot_radius_m));
   ReachableFloor r;
   r.obstacle = obstacleFloorGrid(world, checker, start, res_m, region);
-  r.reachable = emptyGridLike(r.obstacle);
-  r.free_floor = emptyGridLike(r.obstacle);
+  r.reachable = r.obstacle.emptyLike();
+  r.free_floor = r.obstacle.emptyLike();
   const FloorGrid& obs = r.obstacle;
   const int nx = obs.nx;
 
@@ -310,8 +306,7 @@ ReachableFloor reachableFreeFloor(const World& world, const CollisionChecker& ch
   // within rounding (r / res = 5.999...) count as "at the radius": not clear
   // of obstacles, but within reach for the free floor.
   const double radius_cells2 = std::pow(robot_radius_m / res_m, 2) * (1 + 1e-9);
-  const std::vector<double> d_obs =
-      squaredDistanceTransform(obs, [&](int x, int y) { return obs.at(x, y) != 0; });
+  const std::vector<double> d_obs = obs.squaredCellDistance();
   const auto clear = [&](int x, int y)
   { return d_obs[static_cast<std::size_t>(y) * nx + x] > radius_cells2; };
 
@@ -324,13 +319,12 @@ ReachableFloor reachableFreeFloor(const World& world, const CollisionChecker& ch
 
   // Free floor: non-obstacle cells within the radius of a reachable centre.
   const FloorGrid& reach = r.reachable;
-  const std::vector<double> d_reach =
-      squaredDistanceTransform(reach, [&](int x, int y) { return reach.at(x, y) != 0; });
+  const std::vector<double> d_reach = reach.squaredCellDistance();
   for (std::size_t i = 0; i < d_reach.size(); ++i)
     r.free_floor.cells[i] = (obs.cells[i] == 0 && d_reach[i] <= radius_cells2) ? 1 : 0;
 
-  r.reachable_area_m2 = area(r.reachable);
-  r.free_floor_area_m2 = area(r.free_floor);
+  r.reachable_area_m2 = r.reachable.areaM2();
+  r.free_floor_area_m2 = r.free_floor.areaM2();
   return r;
 }
 

@@ -39,6 +39,14 @@ struct FloorGrid
   {
     return origin + Eigen::Vector2d((ix + 0.5) * res_m, (iy + 0.5) * res_m);
   }
+  /// @brief The same cells, all 0.
+  FloorGrid emptyLike() const;
+  /// @brief Area of the cells equal to 1 [m^2].
+  double areaM2() const;
+  /// @brief Exact squared distance in cells^2 from every cell to the nearest
+  ///        non-zero cell (`to_nonzero`) or zero cell (otherwise);
+  ///        common::kEdtFar where there is none. Row-major like `cells`.
+  std::vector<double> squaredCellDistance(bool to_nonzero = true) const;
 };
 
 /// @brief Free floor reachable from the start pose for a disc robot.
