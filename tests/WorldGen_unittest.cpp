@@ -21,16 +21,19 @@
 #include <nlohmann/json.hpp>
 #include <string>
 
+#include "test_worlds.h"
+
 using namespace voxplore;
 namespace fs = std::filesystem;
 
 namespace
 {
+/// A fresh scratch directory of this test process (test::tempPath).
 std::string tmpDir(const std::string& name)
 {
-  const auto d = fs::temp_directory_path() / ("voxplore_WorldGen_unittest_" + name);
+  const std::string d = test::tempPath("worldgen_" + name);
   fs::remove_all(d);
-  return d.string();
+  return d;
 }
 
 std::string readAll(const fs::path& p)
