@@ -12,6 +12,9 @@ PACKAGES=(
   libmrpt-config-dev libmrpt-io-dev libmrpt-serialization-dev libmrpt-system-dev
   libmrpt-math-dev libmrpt-tfest-dev libmrpt-kinematics-dev libmrpt-img-dev
   libmrpt-random-dev libmrpt-tclap-dev
+  # loop closure: CNetworkOfPoses (graphs) and the header-only SPA optimiser
+  # optimize_graph_spa_levmarq (graphslam; only its headers are used)
+  libmrpt-graphs-dev libmrpt-graphslam-dev
   # rawlog-edit, RawLogViewer: the tests check our rawlogs with rawlog-edit --info
   mrpt-apps
   # MRPT's example datasets (2D laser rawlogs, one Kinect frame): bad-input tests

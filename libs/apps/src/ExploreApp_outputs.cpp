@@ -133,6 +133,8 @@ void writeExploreSummary(const ExploreSummary& s, const std::string& path)
   f << "{\n  \"termination_reason\": \"" << s.termination_reason << "\",\n  \"steps\": " << s.steps
     << ",\n  \"stops\": " << s.stops << ",\n  \"flagged_stops\": " << s.flagged_stops
     << ",\n  \"relocalized_stops\": " << s.relocalized_stops
+    << ",\n  \"loop_closures\": " << s.loop_closures << ",\n  \"loop_edges\": " << s.loop_edges
+    << ",\n  \"loop_max_shift_m\": " << s.loop_max_shift_m
     << ",\n  \"skipped_cameras\": " << s.skipped_cameras << ",\n  \"failed_drives\": " << s.failed_drives
     << ",\n  \"blacklisted\": " << s.blacklisted << ",\n  \"path_length_m\": " << s.path_length_m
     << ",\n  \"coverage_2d\": " << s.coverage_2d
@@ -255,6 +257,9 @@ void ExploreRun::finish()
   s_.map_precision_above_floor =
       eval::mapPrecision(above_floor, T_world_map3, surface, res).precision;
   s_.collisions = sim_.robot().collisions();
+  s_.loop_closures = slam_.loopClosures();
+  s_.loop_edges = slam_.loopCloser().numLoopEdges();
+  s_.loop_max_shift_m = slam_.maxGraphShift();
   for (const auto& r : slam_.reports())
   {
     s_.flagged_stops += r.flagged;

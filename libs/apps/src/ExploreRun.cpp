@@ -198,6 +198,17 @@ void ExploreRun::scanAndIntegrate()
   est_tum_->write(t, mrpt::poses::CPose3D(rep.pose));
   pose_at_stop_ = rep.pose;
   odo_at_stop_ = robot_.odometry();
+  if (rep.loop.closed)
+  {
+    // The poses so far were corrected: the swept path follows them.
+    swept_.clear();
+    for (const auto& r : slam_.reports()) addSwept({r.pose.x(), r.pose.y()});
+    if (!quiet_)
+      std::cout << "  stop " << rep.index << ": " << rep.loop.message
+                << (rep.loop.rebuilt ? mrpt::format("; maps rebuilt in %.0f ms", rep.loop.t_rebuild_ms)
+                                     : std::string())
+                << std::endl;
+  }
   addSwept({rep.pose.x(), rep.pose.y()});
   s_.stops = slam_.numStops();
   for (const auto& w : rep.warnings)

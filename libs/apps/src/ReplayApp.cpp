@@ -1,5 +1,6 @@
 #include <mrpt/3rdparty/tclap/CmdLine.h>
 #include <mrpt/config/CConfigFileMemory.h>
+#include <mrpt/core/format.h>
 #include <voxplore/apps/ReplayApp.h>
 #include <voxplore/apps/app_common.h>
 #include <voxplore/common/Progress.h>
@@ -68,6 +69,10 @@ void writeSummary(const ReplaySummary& s, const std::string& path)
     << ",\n  \"degenerate\": " << s.degenerate
     << ",\n  \"missing_odometry\": " << s.missing_odometry
     << ",\n  \"metaview_points\": " << s.metaview_points
+    << ",\n  \"loop_closures\": " << s.loop_closures << ",\n  \"loop_edges\": " << s.loop_edges
+    << ",\n  \"loop_max_shift_m\": " << s.loop_max_shift_m << ",\n  \"loop_stops\": [";
+  for (std::size_t i = 0; i < s.loop_stops.size(); i++) f << (i ? ", " : "") << s.loop_stops[i];
+  f << "]"
     << ",\n  \"mean_stop_ms\": " << s.mean_stop_ms;
   if (s.has_ground_truth)
     f << ",\n  \"ate_rmse_m\": " << s.ate_rmse_m << ",\n  \"ate_max_m\": " << s.ate_max_m
@@ -172,6 +177,11 @@ ReplaySummary ReplayApp::execute(const ReplayOptions& opts)
     if (rep.cloud_points == 0 && rep.cameras_used > 0)
       std::cerr << "\nvoxplore-replay: warning: " << opts.rawlog << " entry " << e.index
                 << ": no valid depth above the floor in " << rep.cameras_used << " images\n";
+    if (rep.loop.closed && !opts.quiet)
+      std::cout << "\nvoxplore-replay: stop " << rep.index << ": " << rep.loop.message
+                << (rep.loop.rebuilt ? mrpt::format(" (maps rebuilt in %.0f ms)", rep.loop.t_rebuild_ms)
+                                     : std::string())
+                << "\n";
     s.stops++;
     progress.update(s.stops, "stop " + std::to_string(rep.index) + (rep.flagged ? " FLAGGED: " + rep.icp.reason : ""));
     if (opts.max_stops != 0 && s.stops >= opts.max_stops)
@@ -216,7 +226,11 @@ ReplaySummary ReplayApp::execute(const ReplayOptions& opts)
     s.relocalized += r.relocalized;
     for (const auto& i : r.camera_issues) s.skipped_cameras += i.skipped;
     s.degenerate += r.icp.degenerate;
+    if (r.loop.closed) s.loop_stops.push_back(r.index);
   }
+  s.loop_closures = slam.loopClosures();
+  s.loop_edges = slam.loopCloser().numLoopEdges();
+  s.loop_max_shift_m = slam.maxGraphShift();
   s.mean_stop_ms = total_ms / double(s.stops);
   s.metaview_points = slam.metaview().size();
 

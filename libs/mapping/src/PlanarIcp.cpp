@@ -149,6 +149,7 @@ IcpResult alignPlanar(
   r.rms_m = fine.rms_m;
   r.pairs = fine.pairs;
   r.info_ratio = fine.info_ratio;
+  r.information = fine.information;
   r.degenerate = fine.degenerate;
   r.degenerate_dir = fine.degenerate_dir;
 

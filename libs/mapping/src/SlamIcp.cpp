@@ -19,6 +19,7 @@ void SlamIcpParams::load(const mrpt::config::CConfigFileBase& cfg)
   common::loadChecked(metaview, cfg, "metaview");
   common::loadChecked(icp, cfg, "icp");
   common::loadChecked(octomap, cfg, "octomap");
+  common::loadChecked(loop_closure, cfg, "loop_closure");
 }
 
 void SlamIcpParams::save(mrpt::config::CConfigFileBase& cfg) const
@@ -27,10 +28,14 @@ void SlamIcpParams::save(mrpt::config::CConfigFileBase& cfg) const
   metaview.saveToConfigFile(cfg, "metaview");
   icp.saveToConfigFile(cfg, "icp");
   octomap.saveToConfigFile(cfg, "octomap");
+  loop_closure.saveToConfigFile(cfg, "loop_closure");
 }
 
 SlamIcp::SlamIcp(const SlamIcpParams& params)
-    : params_(params), metaview_(params.metaview), octomap_(params.octomap)
+    : params_(params),
+      metaview_(params.metaview),
+      octomap_(params.octomap),
+      loop_(params.loop_closure, params.icp)
 {
 }
 
@@ -202,9 +207,12 @@ StopReport SlamIcp::processStop(
 
   // 4. and 5. Metaview, OctoMap, keyframe.
   integrateStop(rep, cloud, usable.scans, sf);
-  rep.t_total_ms = 1e3 * total.Tac();
+  if (rep.index > 0) travel_m_ += std::hypot(rep.pose.x() - previous_pose.x(), rep.pose.y() - previous_pose.y());
   reports_.push_back(rep);
-  return rep;
+  // 6. Loop closure (beyond the thesis, 6.2): may correct every pose so far.
+  closeLoops(reports_.back(), cloud);
+  reports_.back().t_total_ms = 1e3 * total.Tac();
+  return reports_.back();
 }
 
 }  // namespace voxplore::mapping

@@ -17,7 +17,10 @@ void writeStopsCsv(const std::vector<StopReport>& reports, const std::string& pa
   f << "stop,timestamp,odo_x,odo_y,odo_yaw_deg,pred_x,pred_y,pred_yaw_deg,x,y,yaw_deg,"
        "icp_accepted,flagged,integrated,relocalized,icp_goodness,icp_iterations,icp_converged,icp_last_step_m,"
        "icp_degenerate,icp_info_ratio,icp_reason,cameras_used,cameras_skipped,camera_issues,cloud_points,invalid_pixels,metaview_added,metaview_size,octomap_rays,"
-       "t_cloud_ms,t_icp_ms,t_metaview_ms,t_octomap_ms,t_total_ms\n";
+       "loop_searched,loop_consistent,loop_candidate,loop_closed,loop_with_stop,loop_correction_m,"
+       "loop_correction_yaw_deg,loop_goodness,graph_shift_max_m,graph_shift_mean_m,maps_rebuilt,"
+       "t_cloud_ms,t_icp_ms,t_metaview_ms,t_octomap_ms,t_loop_detect_ms,t_loop_optimize_ms,"
+       "t_loop_rebuild_ms,t_total_ms\n";
   f << std::fixed;
   for (const auto& r : reports)
   {
@@ -46,8 +49,17 @@ void writeStopsCsv(const std::vector<StopReport>& reports, const std::string& pa
       << r.icp.degenerate << "," << std::setprecision(4) << r.icp.info_ratio << "," << reason
       << "," << r.cameras_used << "," << skipped << "," << issues << "," << r.cloud_points
       << "," << r.invalid_pixels << "," << r.metaview_added << "," << r.metaview_size << ","
-      << r.octomap.rays << "," << std::setprecision(3) << r.t_cloud_ms << "," << r.t_icp_ms
-      << "," << r.t_metaview_ms << "," << r.t_octomap_ms << "," << r.t_total_ms << "\n";
+      << r.octomap.rays << "," << r.loop.searched << "," << r.loop.consistent << ","
+      << r.loop.candidate << "," << r.loop.closed << ","
+      << (r.loop.searched && (r.loop.consistent || r.loop.candidate || r.loop.closed)
+              ? std::to_string(r.loop.with_stop)
+              : std::string())
+      << "," << std::setprecision(4) << r.loop.correction_m << ","
+      << mrpt::RAD2DEG(r.loop.correction_yaw) << "," << r.loop.goodness << ","
+      << r.loop.graph_shift_max_m << "," << r.loop.graph_shift_mean_m << "," << r.loop.rebuilt
+      << "," << std::setprecision(3) << r.t_cloud_ms << "," << r.t_icp_ms << ","
+      << r.t_metaview_ms << "," << r.t_octomap_ms << "," << r.loop.t_detect_ms << ","
+      << r.loop.t_optimize_ms << "," << r.loop.t_rebuild_ms << "," << r.t_total_ms << "\n";
   }
   if (!f) throw std::runtime_error("write failed: '" + path + "'");
 }

@@ -58,6 +58,9 @@ struct ExploreSummary
   std::size_t stops = 0;           ///< scan stops (SlamIcp calls)
   std::size_t flagged_stops = 0;   ///< stops whose ICP was rejected (pose from odometry, kept out of the maps)
   std::size_t relocalized_stops = 0;  ///< stops found again after a rejected ICP (odometry jump)
+  std::size_t loop_closures = 0;   ///< loops closed (confirmed, graph relaxed; [loop_closure])
+  std::size_t loop_edges = 0;      ///< loop edges in the pose graph (closures and consistent revisits)
+  double loop_max_shift_m = 0;     ///< the largest keyframe shift of any relaxation [m]
   std::size_t skipped_cameras = 0;    ///< depth images skipped as faulty or missing, over all stops
   std::size_t failed_drives = 0;   ///< waypoints not reached (Blocked / Timeout / Error)
   std::size_t blacklisted = 0;     ///< targets given up

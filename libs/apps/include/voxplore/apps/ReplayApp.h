@@ -3,6 +3,7 @@
 
 #include <optional>
 #include <string>
+#include <vector>
 
 namespace voxplore::apps
 {
@@ -33,6 +34,10 @@ struct ReplaySummary
   std::size_t degenerate = 0;     ///< stops with a degenerate direction
   std::size_t missing_odometry = 0;
   std::size_t metaview_points = 0;
+  std::size_t loop_closures = 0;  ///< loops closed (confirmed, graph relaxed)
+  std::size_t loop_edges = 0;     ///< loop edges in the pose graph
+  double loop_max_shift_m = 0;    ///< the largest keyframe shift of any relaxation [m]
+  std::vector<std::size_t> loop_stops;  ///< the stops that closed a loop
   bool has_ground_truth = false;
   double ate_rmse_m = 0, ate_max_m = 0, final_yaw_error_deg = 0, final_xy_error_m = 0;
   double mean_stop_ms = 0;

@@ -64,6 +64,9 @@ struct IcpResult
   Eigen::Vector2d degenerate_dir{0, 0};  ///< unit vector (map frame) of that direction
   double info_ratio = 0;            ///< smallest / largest translational information eigenvalue
   std::size_t pairs = 0;            ///< correspondences in the information matrix
+  /// Point-to-line information J^T J at the solution (map-frame x, y and yaw
+  /// about the robot; unscaled by the noise): the pose-graph edge's information.
+  Eigen::Matrix3d information = Eigen::Matrix3d::Zero();
 };
 
 /// @brief Registers `cloud_robot` (robot frame) against `reference_map`

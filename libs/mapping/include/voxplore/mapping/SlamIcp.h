@@ -9,6 +9,7 @@
 #include <mrpt/maps/CSimpleMap.h>
 #include <mrpt/obs/CActionCollection.h>
 #include <mrpt/obs/CSensoryFrame.h>
+#include <voxplore/mapping/LoopClosure.h>
 #include <voxplore/mapping/Metaview.h>
 #include <voxplore/mapping/OctoMapLayer.h>
 #include <voxplore/mapping/PlanarIcp.h>
@@ -21,19 +22,23 @@
 
 namespace voxplore::mapping
 {
-/// @brief All SlamIcp settings: sections [cloud], [metaview], [icp], [octomap].
+/// @brief All SlamIcp settings: sections [cloud], [metaview], [icp], [octomap], [loop_closure].
 struct SlamIcpParams
 {
   CloudParams cloud;
   MetaviewParams metaview;
   IcpParams icp;
   OctoMapParams octomap;
+  LoopClosureParams loop_closure;
 
   /// @brief Loads the four sections (unknown keys / bad values throw naming file and key).
   void load(const mrpt::config::CConfigFileBase& cfg);
   void save(mrpt::config::CConfigFileBase& cfg) const;
   /// @brief The section names this struct reads.
-  static std::vector<std::string> sections() { return {"cloud", "metaview", "icp", "octomap"}; }
+  static std::vector<std::string> sections()
+  {
+    return {"cloud", "metaview", "icp", "octomap", "loop_closure"};
+  }
 };
 
 /// @brief What happened at one stop (also one row of stops.csv).
@@ -62,6 +67,9 @@ struct StopReport
   std::size_t metaview_added = 0;
   std::size_t metaview_size = 0;
   InsertStats octomap;
+  /// Loop closure at this stop (keyframes only). When `loop.closed`, every
+  /// earlier report's pose was corrected and the maps may have been rebuilt.
+  LoopEvent loop;
   double t_cloud_ms = 0, t_icp_ms = 0, t_metaview_ms = 0, t_octomap_ms = 0, t_total_ms = 0;
 };
 
@@ -98,6 +106,15 @@ class SlamIcp
   const mrpt::maps::CSimpleMap& simplemap() const { return simplemap_; }
   const std::vector<StopReport>& reports() const { return reports_; }
   const SlamIcpParams& params() const { return params_; }
+  /// @brief The keyframes and pose graph (empty when [loop_closure] enabled = false).
+  const LoopCloser& loopCloser() const { return loop_; }
+  /// @brief Loops closed (confirmed and relaxed) so far, and the largest graph shift [m].
+  std::size_t loopClosures() const { return loop_closures_; }
+  double maxGraphShift() const { return max_graph_shift_m_; }
+
+  /// @brief Rebuilds the metaview and the OctoMap from the keyframes at
+  ///        their current poses (after a relaxation); returns its time [ms].
+  double rebuildMaps();
 
   /// @brief Writes map.bt, map.simplemap, metaview.ply, trajectory_est.tum
   ///        and stops.csv into `dir` (which must exist).
@@ -113,6 +130,11 @@ class SlamIcp
   void integrateStop(StopReport& rep, const RobotCloud& cloud,
                      const std::vector<mrpt::obs::CObservation3DRangeScan::Ptr>& scans,
                      const mrpt::obs::CSensoryFrame& sf);
+  /// Keyframe, loop detection and, after a closure, the corrected poses and maps.
+  void closeLoops(StopReport& rep, const RobotCloud& cloud);
+  /// Copies the relaxed keyframe poses into the reports (stops between
+  /// keyframes keep their offset to the keyframe before them) and the simplemap.
+  void applyCorrection();
 
   SlamIcpParams params_;
   Metaview metaview_;
@@ -123,6 +145,10 @@ class SlamIcp
   std::optional<mrpt::poses::CPose2D> last_odometry_;
   std::optional<mrpt::poses::CPose2D> action_odometry_;  ///< accumulated action increments
   std::set<std::string> known_cameras_;  ///< labels of every depth camera seen so far
+  LoopCloser loop_;
+  double travel_m_ = 0;  ///< distance travelled along the estimate
+  std::size_t loop_closures_ = 0;
+  double max_graph_shift_m_ = 0;
 };
 
 /// @brief Writes the per-stop CSV (header + one row per report).

@@ -1,0 +1,178 @@
+/* voxplore — loop closure for SlamIcp (thesis 5.3.1 / 6.2): keyframes, a
+ * planar pose graph, loop detection against old keyframes only, relaxation
+ * with MRPT's sparse Levenberg-Marquardt (optimize_graph_spa_levmarq).
+ *
+ * Ours where MRPT has no fit: MRPT's loop *detection* (CLoopCloserERD) is
+ * built for 2D laser scans and its graph-SLAM engine for its own node
+ * registrars; the detection, the verification and the edge information below
+ * are written for our merged 8-camera clouds. The optimiser is MRPT's. */
+#pragma once
+
+#include <mrpt/config/CLoadableOptions.h>
+#include <mrpt/maps/CSimplePointsMap.h>
+#include <mrpt/poses/CPose2D.h>
+#include <voxplore/mapping/PlanarIcp.h>
+
+#include <Eigen/Core>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace voxplore::mapping
+{
+/// @brief Loop closure settings. ini section [loop_closure].
+struct LoopClosureParams : public mrpt::config::CLoadableOptions
+{
+  bool enabled = true;            ///< false: the thesis' SlamIcp (no pose graph, no correction)
+  /// A keyframe is "old" for the current one when the robot has travelled at
+  /// least this far (along its estimated path) since it [m].
+  double min_travel_m = 12.0;
+  /// Detection runs when an old keyframe's estimate is within this of the
+  /// current estimate [m].
+  double search_radius_m = 2.5;
+  /// The submap: old keyframes within this of the current estimate [m].
+  double submap_radius_m = 7.0;
+  double submap_cell_m = 0.03;    ///< the submap's 2D point reduction [m]
+  /// Pose uncertainty that the search covers: drift_per_m times the distance
+  /// travelled since the old keyframe, clamped to [min_window_m, max_window_m].
+  double drift_per_m = 0.02;
+  double min_window_m = 0.3;      ///< [m]
+  double max_window_m = 1.5;      ///< [m]
+  double yaw_drift_per_m = mrpt::DEG2RAD(0.2);  ///< yaw window per travelled m [rad] (ini: deg)
+  double min_window_yaw = mrpt::DEG2RAD(5.0);   ///< [rad] (ini: deg)
+  double max_window_yaw = mrpt::DEG2RAD(20.0);  ///< [rad] (ini: deg)
+  double min_goodness = 0.8;      ///< share of the cloud paired with the submap within d_max_final_m
+  /// Ambiguity: no distinct pose may come within this goodness of the best.
+  double margin = 0.15;
+  /// A match whose correction of the estimate is below this is consistent
+  /// with the graph: its edge is added without confirmation and without a
+  /// relaxation [m].
+  double consistent_m = 0.03;
+  double consistent_yaw = mrpt::DEG2RAD(0.5);  ///< [rad] (ini: deg)
+  /// A larger correction must be confirmed by one of the next
+  /// confirm_within keyframes: its own match must agree with the first
+  /// match carried forward by odometry within confirm_xy_m + confirm_per_m
+  /// x the distance driven, and confirm_yaw.
+  int confirm_within = 3;
+  double confirm_xy_m = 0.05;     ///< [m]
+  double confirm_per_m = 0.02;    ///< [m per m driven]
+  double confirm_yaw = mrpt::DEG2RAD(1.5);  ///< [rad] (ini: deg)
+  /// The maps are rebuilt from the keyframes when a relaxation moved a
+  /// keyframe by more than this [m] (or yaw x 3 m by more than it).
+  double rebuild_min_shift_m = 0.02;
+  /// Edge information from the registration's point-to-line information
+  /// matrix: J^T J / sigma^2 x edge_info_scale, sigma = max(rms, edge_sigma_floor_m);
+  /// the scale < 1 accounts for residuals that are not independent.
+  double edge_sigma_floor_m = 0.01;
+  double edge_info_scale = 0.05;
+  double edge_min_std_m = 0.003;  ///< translation std of an edge at least [m]
+  double edge_max_std_m = 1.0;    ///< ... at most (unconstrained directions) [m]
+  double edge_min_std_yaw = mrpt::DEG2RAD(0.05);  ///< [rad] (ini: deg)
+  double edge_max_std_yaw = mrpt::DEG2RAD(20.0);  ///< [rad] (ini: deg)
+  /// Edges without a registration (odometry only): std per m driven.
+  double odometry_std_per_m = 0.05;
+  double odometry_std_yaw_per_m = mrpt::DEG2RAD(1.0);  ///< [rad per m] (ini: deg per m)
+  int max_iterations = 100;       ///< Levenberg-Marquardt iterations at most
+
+  void loadFromConfigFile(const mrpt::config::CConfigFileBase& c, const std::string& s) override;
+  void saveToConfigFile(mrpt::config::CConfigFileBase& c, const std::string& s) const override;
+};
+
+/// @brief One integrated stop: what is needed to integrate it again.
+struct Keyframe
+{
+  std::size_t stop = 0;            ///< StopReport::index
+  mrpt::poses::CPose2D pose;       ///< T_map_robot, the graph's current estimate
+  mrpt::poses::CPose2D odometry;   ///< the raw odometry reading at the stop
+  double travel_m = 0;             ///< distance travelled (estimate) up to this stop
+  /// The stop's cloud Q (robot frame, floor cut), reduced to one point per
+  /// d_min cell: rebuilds the metaview and makes the loop submaps.
+  mrpt::maps::CSimplePointsMap cloud;
+};
+
+/// @brief What loop closure did at one keyframe (stops.csv, summary.json).
+struct LoopEvent
+{
+  bool searched = false;           ///< old keyframes were near: a match was tried
+  bool consistent = false;         ///< matched with a correction below consistent_*: edge added
+  bool candidate = false;          ///< a larger correction found, waiting for confirmation
+  bool closed = false;             ///< a confirmed loop: edges added and the graph relaxed
+  bool rebuilt = false;            ///< the maps were rebuilt after the relaxation
+  std::size_t with_stop = 0;       ///< the old keyframe (stop index) the loop edge joins
+  double correction_m = 0;         ///< correction of the current estimate by the match [m]
+  double correction_yaw = 0;       ///< ... [rad]
+  double graph_shift_max_m = 0;    ///< largest keyframe displacement by the relaxation [m]
+  double graph_shift_mean_m = 0;   ///< mean keyframe displacement [m]
+  double goodness = 0;             ///< the match's goodness
+  double t_detect_ms = 0, t_optimize_ms = 0, t_rebuild_ms = 0;
+  std::string message;             ///< what happened, for the user (empty: nothing)
+};
+
+/// @brief The keyframes, the pose graph and loop detection. SlamIcp owns
+///        one; it can be used alone (the benchmark does).
+class LoopCloser
+{
+ public:
+  LoopCloser(const LoopClosureParams& params, const IcpParams& icp);
+  ~LoopCloser();
+  LoopCloser(LoopCloser&&) noexcept;
+  LoopCloser& operator=(LoopCloser&&) noexcept;
+
+  /// @brief Adds a keyframe at `pose` (its registration `reg`, if ICP
+  ///        registered it, gives the information of the edge from the
+  ///        previous keyframe), then looks for a loop and relaxes the graph
+  ///        when one is confirmed. keyframes() then hold the corrected poses.
+  /// @param cloud_robot the stop's robot-frame cloud (reduced here)
+  /// @param d_min_m the reduction cell (the metaview's d_min)
+  LoopEvent addKeyframe(std::size_t stop, const mrpt::poses::CPose2D& pose,
+                        const mrpt::poses::CPose2D& odometry, double travel_m,
+                        const mrpt::maps::CPointsMap& cloud_robot, double d_min_m,
+                        const IcpResult* reg);
+
+  const std::vector<Keyframe>& keyframes() const { return keyframes_; }
+  std::size_t numEdges() const;
+  std::size_t numLoopEdges() const { return loop_edges_; }
+  const LoopClosureParams& params() const { return params_; }
+
+  /// @brief The 2D submap of the old keyframes near `around` (keyframes with
+  ///        travel_m <= max_travel_m within submap_radius_m), map frame.
+  ///        Empty when none.
+  mrpt::maps::CSimplePointsMap submapAround(const mrpt::poses::CPose2D& around,
+                                            double max_travel_m) const;
+
+  /// @brief Relaxes the graph now (MRPT's SPA Levenberg-Marquardt), copies the
+  ///        result into keyframes(); returns the largest and mean shift [m].
+  std::pair<double, double> optimize();
+
+  /// @brief Information matrix (x, y, yaw in the frame of `from`) of an
+  ///        edge from a registration (null: odometry only, over `dist_m`).
+  Eigen::Matrix3d edgeInformation(const IcpResult* reg, const mrpt::poses::CPose2D& from,
+                                  double dist_m) const;
+
+ private:
+  struct Graph;
+  struct Pending
+  {
+    std::size_t kf = 0, anchor = 0;  ///< keyframe indices
+    mrpt::poses::CPose2D matched;    ///< the keyframe's pose as the match put it
+    IcpResult reg;
+  };
+  /// Match the newest keyframe against its old neighbours; nullopt: no match.
+  std::optional<IcpResult> match(LoopEvent& ev, std::size_t& anchor);
+  void addLoopEdge(std::size_t anchor, std::size_t kf, const mrpt::poses::CPose2D& matched,
+                   const IcpResult& reg);
+
+  LoopClosureParams params_;
+  IcpParams icp_;
+  std::vector<Keyframe> keyframes_;
+  std::unique_ptr<Graph> graph_;
+  std::optional<Pending> pending_;
+  std::size_t loop_edges_ = 0;
+};
+
+/// @brief `cloud` reduced to its first point per cubic cell of `cell_m`
+///        (all points when cell_m <= 0).
+mrpt::maps::CSimplePointsMap reduceCloud(const mrpt::maps::CPointsMap& cloud, double cell_m);
+
+}  // namespace voxplore::mapping

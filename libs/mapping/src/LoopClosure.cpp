@@ -1,0 +1,413 @@
+// Loop closure: keyframes, pose graph, detection against old keyframes only,
+// relaxation with MRPT's optimize_graph_spa_levmarq (see LoopClosure.h).
+#include <mrpt/graphs/CNetworkOfPoses.h>
+#include <mrpt/graphslam/levmarq.h>
+#include <mrpt/system/CTicTac.h>
+#include <voxplore/common/config.h>
+#include <voxplore/mapping/LoopClosure.h>
+
+#include <Eigen/Eigenvalues>
+#include <algorithm>
+#include <cmath>
+#include <sstream>
+#include <unordered_set>
+
+namespace voxplore::mapping
+{
+using mrpt::poses::CPose2D;
+
+void LoopClosureParams::loadFromConfigFile(const mrpt::config::CConfigFileBase& c, const std::string& s)
+{
+  MRPT_LOAD_CONFIG_VAR(enabled, bool, c, s);
+  MRPT_LOAD_CONFIG_VAR(min_travel_m, double, c, s);
+  MRPT_LOAD_CONFIG_VAR(search_radius_m, double, c, s);
+  MRPT_LOAD_CONFIG_VAR(submap_radius_m, double, c, s);
+  MRPT_LOAD_CONFIG_VAR(submap_cell_m, double, c, s);
+  MRPT_LOAD_CONFIG_VAR(drift_per_m, double, c, s);
+  MRPT_LOAD_CONFIG_VAR(min_window_m, double, c, s);
+  MRPT_LOAD_CONFIG_VAR(max_window_m, double, c, s);
+  MRPT_LOAD_CONFIG_VAR_DEGREES(yaw_drift_per_m, c, s);
+  MRPT_LOAD_CONFIG_VAR_DEGREES(min_window_yaw, c, s);
+  MRPT_LOAD_CONFIG_VAR_DEGREES(max_window_yaw, c, s);
+  MRPT_LOAD_CONFIG_VAR(min_goodness, double, c, s);
+  MRPT_LOAD_CONFIG_VAR(margin, double, c, s);
+  MRPT_LOAD_CONFIG_VAR(consistent_m, double, c, s);
+  MRPT_LOAD_CONFIG_VAR_DEGREES(consistent_yaw, c, s);
+  MRPT_LOAD_CONFIG_VAR(confirm_within, int, c, s);
+  MRPT_LOAD_CONFIG_VAR(confirm_xy_m, double, c, s);
+  MRPT_LOAD_CONFIG_VAR(confirm_per_m, double, c, s);
+  MRPT_LOAD_CONFIG_VAR_DEGREES(confirm_yaw, c, s);
+  MRPT_LOAD_CONFIG_VAR(rebuild_min_shift_m, double, c, s);
+  MRPT_LOAD_CONFIG_VAR(edge_sigma_floor_m, double, c, s);
+  MRPT_LOAD_CONFIG_VAR(edge_info_scale, double, c, s);
+  MRPT_LOAD_CONFIG_VAR(edge_min_std_m, double, c, s);
+  MRPT_LOAD_CONFIG_VAR(edge_max_std_m, double, c, s);
+  MRPT_LOAD_CONFIG_VAR_DEGREES(edge_min_std_yaw, c, s);
+  MRPT_LOAD_CONFIG_VAR_DEGREES(edge_max_std_yaw, c, s);
+  MRPT_LOAD_CONFIG_VAR(odometry_std_per_m, double, c, s);
+  MRPT_LOAD_CONFIG_VAR_DEGREES(odometry_std_yaw_per_m, c, s);
+  MRPT_LOAD_CONFIG_VAR(max_iterations, int, c, s);
+  using common::requireValid;
+  requireValid(min_travel_m >= 0, c, s, "min_travel_m", "must be >= 0 m");
+  requireValid(search_radius_m > 0, c, s, "search_radius_m", "must be > 0 m");
+  requireValid(submap_radius_m >= search_radius_m, c, s, "submap_radius_m",
+               "must be >= search_radius_m");
+  requireValid(submap_cell_m > 0 && submap_cell_m < 1, c, s, "submap_cell_m", "must be in (0, 1) m");
+  requireValid(drift_per_m >= 0, c, s, "drift_per_m", "must be >= 0");
+  requireValid(min_window_m > 0 && max_window_m >= min_window_m, c, s, "min_window_m",
+               "must be > 0 and <= max_window_m");
+  requireValid(min_window_yaw >= 0 && max_window_yaw >= min_window_yaw, c, s, "min_window_yaw",
+               "must be >= 0 and <= max_window_yaw");
+  requireValid(min_goodness > 0 && min_goodness <= 1, c, s, "min_goodness", "must be in (0, 1]");
+  requireValid(margin >= 0 && margin < 1, c, s, "margin", "must be in [0, 1)");
+  requireValid(confirm_within >= 1, c, s, "confirm_within", "must be >= 1");
+  requireValid(edge_min_std_m > 0 && edge_max_std_m >= edge_min_std_m, c, s, "edge_min_std_m",
+               "must be > 0 and <= edge_max_std_m");
+  requireValid(edge_min_std_yaw > 0 && edge_max_std_yaw >= edge_min_std_yaw, c, s,
+               "edge_min_std_yaw", "must be > 0 and <= edge_max_std_yaw");
+  requireValid(edge_info_scale > 0 && edge_sigma_floor_m > 0, c, s, "edge_info_scale",
+               "edge_info_scale and edge_sigma_floor_m must be > 0");
+  requireValid(odometry_std_per_m > 0 && odometry_std_yaw_per_m > 0, c, s, "odometry_std_per_m",
+               "odometry_std_per_m and odometry_std_yaw_per_m must be > 0");
+  requireValid(max_iterations >= 1, c, s, "max_iterations", "must be >= 1");
+}
+
+void LoopClosureParams::saveToConfigFile(mrpt::config::CConfigFileBase& c, const std::string& s) const
+{
+  MRPT_SAVE_CONFIG_VAR(enabled, c, s);
+  MRPT_SAVE_CONFIG_VAR(min_travel_m, c, s);
+  MRPT_SAVE_CONFIG_VAR(search_radius_m, c, s);
+  MRPT_SAVE_CONFIG_VAR(submap_radius_m, c, s);
+  MRPT_SAVE_CONFIG_VAR(submap_cell_m, c, s);
+  MRPT_SAVE_CONFIG_VAR(drift_per_m, c, s);
+  MRPT_SAVE_CONFIG_VAR(min_window_m, c, s);
+  MRPT_SAVE_CONFIG_VAR(max_window_m, c, s);
+  MRPT_SAVE_CONFIG_VAR_DEGREES(yaw_drift_per_m, c, s);
+  MRPT_SAVE_CONFIG_VAR_DEGREES(min_window_yaw, c, s);
+  MRPT_SAVE_CONFIG_VAR_DEGREES(max_window_yaw, c, s);
+  MRPT_SAVE_CONFIG_VAR(min_goodness, c, s);
+  MRPT_SAVE_CONFIG_VAR(margin, c, s);
+  MRPT_SAVE_CONFIG_VAR(consistent_m, c, s);
+  MRPT_SAVE_CONFIG_VAR_DEGREES(consistent_yaw, c, s);
+  MRPT_SAVE_CONFIG_VAR(confirm_within, c, s);
+  MRPT_SAVE_CONFIG_VAR(confirm_xy_m, c, s);
+  MRPT_SAVE_CONFIG_VAR(confirm_per_m, c, s);
+  MRPT_SAVE_CONFIG_VAR_DEGREES(confirm_yaw, c, s);
+  MRPT_SAVE_CONFIG_VAR(rebuild_min_shift_m, c, s);
+  MRPT_SAVE_CONFIG_VAR(edge_sigma_floor_m, c, s);
+  MRPT_SAVE_CONFIG_VAR(edge_info_scale, c, s);
+  MRPT_SAVE_CONFIG_VAR(edge_min_std_m, c, s);
+  MRPT_SAVE_CONFIG_VAR(edge_max_std_m, c, s);
+  MRPT_SAVE_CONFIG_VAR_DEGREES(edge_min_std_yaw, c, s);
+  MRPT_SAVE_CONFIG_VAR_DEGREES(edge_max_std_yaw, c, s);
+  MRPT_SAVE_CONFIG_VAR(odometry_std_per_m, c, s);
+  MRPT_SAVE_CONFIG_VAR_DEGREES(odometry_std_yaw_per_m, c, s);
+  MRPT_SAVE_CONFIG_VAR(max_iterations, c, s);
+}
+
+namespace
+{
+uint64_t cellKey(int64_t ix, int64_t iy, int64_t iz)
+{
+  constexpr int64_t kOff = 1 << 20;
+  constexpr uint64_t kMask = (1u << 21) - 1;
+  return ((static_cast<uint64_t>(ix + kOff) & kMask) << 42) |
+         ((static_cast<uint64_t>(iy + kOff) & kMask) << 21) | (static_cast<uint64_t>(iz + kOff) & kMask);
+}
+
+double yawDiff(const CPose2D& a, const CPose2D& b) { return mrpt::math::wrapToPi(a.phi() - b.phi()); }
+double xyDist(const CPose2D& a, const CPose2D& b) { return std::hypot(a.x() - b.x(), a.y() - b.y()); }
+}  // namespace
+
+mrpt::maps::CSimplePointsMap reduceCloud(const mrpt::maps::CPointsMap& cloud, double cell_m)
+{
+  mrpt::maps::CSimplePointsMap out;
+  const auto& xs = cloud.getPointsBufferRef_x();
+  const auto& ys = cloud.getPointsBufferRef_y();
+  const auto& zs = cloud.getPointsBufferRef_z();
+  if (cell_m <= 0)
+  {
+    out.reserve(xs.size());
+    for (std::size_t i = 0; i < xs.size(); i++) out.insertPointFast(xs[i], ys[i], zs[i]);
+    return out;
+  }
+  std::unordered_set<uint64_t> seen;
+  seen.reserve(xs.size());
+  const double inv = 1.0 / cell_m;
+  for (std::size_t i = 0; i < xs.size(); i++)
+  {
+    const auto k = cellKey(static_cast<int64_t>(std::floor(xs[i] * inv)),
+                           static_cast<int64_t>(std::floor(ys[i] * inv)),
+                           static_cast<int64_t>(std::floor(zs[i] * inv)));
+    if (seen.insert(k).second) out.insertPointFast(xs[i], ys[i], zs[i]);
+  }
+  out.mark_as_modified();
+  return out;
+}
+
+struct LoopCloser::Graph
+{
+  mrpt::graphs::CNetworkOfPoses2DInf net;
+};
+
+LoopCloser::LoopCloser(const LoopClosureParams& params, const IcpParams& icp)
+    : params_(params), icp_(icp), graph_(std::make_unique<Graph>())
+{
+  graph_->net.root = 0;
+}
+LoopCloser::~LoopCloser() = default;
+LoopCloser::LoopCloser(LoopCloser&&) noexcept = default;
+LoopCloser& LoopCloser::operator=(LoopCloser&&) noexcept = default;
+
+std::size_t LoopCloser::numEdges() const { return graph_->net.edges.size(); }
+
+Eigen::Matrix3d LoopCloser::edgeInformation(const IcpResult* reg, const CPose2D& from,
+                                            double dist_m) const
+{
+  const auto& p = params_;
+  Eigen::Matrix3d out = Eigen::Matrix3d::Zero();
+  if (!reg || reg->pairs == 0 || !reg->information.allFinite())
+  {
+    // Odometry only: std grows with the distance driven.
+    const double d = std::max(dist_m, 0.1);
+    const double sxy = std::clamp(p.odometry_std_per_m * d, p.edge_min_std_m, p.edge_max_std_m);
+    const double syaw =
+        std::clamp(p.odometry_std_yaw_per_m * d, p.edge_min_std_yaw, p.edge_max_std_yaw);
+    out(0, 0) = out(1, 1) = 1.0 / (sxy * sxy);
+    out(2, 2) = 1.0 / (syaw * syaw);
+    return out;
+  }
+  // The point-to-line information J^T J is for the absolute pose (map-frame
+  // x, y and yaw about the robot); the edge is in the frame of `from`:
+  // Omega_local = B^T Omega B with B = blkdiag(R_from, 1).
+  const double sigma = std::max(reg->rms_m, p.edge_sigma_floor_m);
+  const Eigen::Matrix3d info = reg->information * (p.edge_info_scale / (sigma * sigma));
+  Eigen::Matrix3d B = Eigen::Matrix3d::Identity();
+  const double c = std::cos(from.phi()), s = std::sin(from.phi());
+  B(0, 0) = c;
+  B(0, 1) = -s;
+  B(1, 0) = s;
+  B(1, 1) = c;
+  const Eigen::Matrix3d local = B.transpose() * info * B;
+  // Clamp the translational eigenvalues and the yaw term to the std bounds
+  // (cross terms dropped: they mix units and would defeat the clamping).
+  Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d> es(local.topLeftCorner<2, 2>());
+  Eigen::Vector2d ev = es.eigenvalues();
+  const double lo = 1.0 / (p.edge_max_std_m * p.edge_max_std_m);
+  const double hi = 1.0 / (p.edge_min_std_m * p.edge_min_std_m);
+  for (int i = 0; i < 2; i++) ev(i) = std::clamp(ev(i), lo, hi);
+  out.topLeftCorner<2, 2>() = es.eigenvectors() * ev.asDiagonal() * es.eigenvectors().transpose();
+  out(2, 2) = std::clamp(local(2, 2), 1.0 / (p.edge_max_std_yaw * p.edge_max_std_yaw),
+                         1.0 / (p.edge_min_std_yaw * p.edge_min_std_yaw));
+  return out;
+}
+
+mrpt::maps::CSimplePointsMap LoopCloser::submapAround(const CPose2D& around, double max_travel_m) const
+{
+  mrpt::maps::CSimplePointsMap out;
+  std::unordered_set<uint64_t> seen;
+  const double inv = 1.0 / params_.submap_cell_m;
+  for (const auto& kf : keyframes_)
+  {
+    if (kf.travel_m > max_travel_m || xyDist(kf.pose, around) > params_.submap_radius_m) continue;
+    const double c = std::cos(kf.pose.phi()), s = std::sin(kf.pose.phi());
+    const auto& xs = kf.cloud.getPointsBufferRef_x();
+    const auto& ys = kf.cloud.getPointsBufferRef_y();
+    for (std::size_t i = 0; i < xs.size(); i++)
+    {
+      const double x = kf.pose.x() + c * xs[i] - s * ys[i];
+      const double y = kf.pose.y() + s * xs[i] + c * ys[i];
+      const auto k = cellKey(static_cast<int64_t>(std::floor(x * inv)),
+                             static_cast<int64_t>(std::floor(y * inv)), 0);
+      if (seen.insert(k).second)
+        out.insertPointFast(static_cast<float>(x), static_cast<float>(y), 0.f);
+    }
+  }
+  out.mark_as_modified();
+  return out;
+}
+
+std::optional<IcpResult> LoopCloser::match(LoopEvent& ev, std::size_t& anchor)
+{
+  const Keyframe& cur = keyframes_.back();
+  const double max_travel = cur.travel_m - params_.min_travel_m;
+  // The nearest old keyframe: is there anything old close enough to overlap?
+  double best = params_.search_radius_m;
+  bool any = false;
+  for (std::size_t i = 0; i + 1 < keyframes_.size(); i++)
+  {
+    const auto& kf = keyframes_[i];
+    if (kf.travel_m > max_travel) break;  // travel grows with the index
+    const double d = xyDist(kf.pose, cur.pose);
+    if (d <= best)
+    {
+      best = d;
+      anchor = i;
+      any = true;
+    }
+  }
+  if (!any) return std::nullopt;
+  ev.searched = true;
+  const auto submap = submapAround(cur.pose, max_travel);
+  const double travelled = cur.travel_m - keyframes_[anchor].travel_m;
+  IcpParams p = icp_;
+  p.enabled = true;
+  p.min_goodness = params_.min_goodness;
+  p.max_correction_xy_m =
+      std::clamp(params_.drift_per_m * travelled, params_.min_window_m, params_.max_window_m);
+  p.max_correction_yaw = std::clamp(params_.yaw_drift_per_m * travelled, params_.min_window_yaw,
+                                    params_.max_window_yaw);
+  // 1. From the estimate: the common case (the graph already agrees).
+  IcpResult r = alignPlanar(submap, cur.cloud, cur.pose, p);
+  const bool small = r.accepted && xyDist(r.pose, cur.pose) <= params_.consistent_m &&
+                     std::abs(yawDiff(r.pose, cur.pose)) <= params_.consistent_yaw;
+  if (!(small && !r.degenerate))
+  {
+    // 2. A search over the pose uncertainty, accepted only when good,
+    //    unambiguous and not degenerate (relocalizePlanar's rules).
+    p.relocalize_radius_m = p.max_correction_xy_m;
+    p.relocalize_yaw = p.max_correction_yaw;
+    p.relocalize_min_goodness = params_.min_goodness;
+    p.relocalize_margin = params_.margin;
+    r = relocalizePlanar(submap, cur.cloud, cur.pose, p);
+  }
+  ev.goodness = r.goodness;
+  if (!r.accepted || r.degenerate)
+  {
+    ev.message = "no loop: " + (r.degenerate ? std::string("degenerate match") : r.reason);
+    return std::nullopt;
+  }
+  // The old keyframe nearest to the matched pose anchors the edge.
+  double dmin = 1e9;
+  for (std::size_t i = 0; i + 1 < keyframes_.size() && keyframes_[i].travel_m <= max_travel; i++)
+    if (const double d = xyDist(keyframes_[i].pose, r.pose); d < dmin)
+    {
+      dmin = d;
+      anchor = i;
+    }
+  return r;
+}
+
+void LoopCloser::addLoopEdge(std::size_t anchor, std::size_t kf, const CPose2D& matched,
+                             const IcpResult& reg)
+{
+  mrpt::graphs::CNetworkOfPoses2DInf::edge_t e;
+  e.mean = matched - keyframes_[anchor].pose;
+  const Eigen::Matrix3d info = edgeInformation(&reg, keyframes_[anchor].pose, 0);
+  for (int i = 0; i < 3; i++)
+    for (int j = 0; j < 3; j++) e.cov_inv(i, j) = info(i, j);
+  graph_->net.insertEdge(anchor, kf, e);
+  loop_edges_++;
+}
+
+std::pair<double, double> LoopCloser::optimize()
+{
+  if (keyframes_.size() < 2) return {0, 0};
+  mrpt::graphslam::TResultInfoSpaLevMarq info;
+  mrpt::containers::yaml extra;
+  extra["max_iterations"] = params_.max_iterations;
+  mrpt::graphslam::optimize_graph_spa_levmarq(graph_->net, info, nullptr, extra);
+  double max_shift = 0, sum = 0;
+  for (std::size_t i = 0; i < keyframes_.size(); i++)
+  {
+    const CPose2D& n = graph_->net.nodes.at(i);
+    // A yaw change counts as the shift it gives 3 m away.
+    const double shift = xyDist(n, keyframes_[i].pose) + 3.0 * std::abs(yawDiff(n, keyframes_[i].pose));
+    max_shift = std::max(max_shift, shift);
+    sum += shift;
+    keyframes_[i].pose = n;
+  }
+  return {max_shift, sum / double(keyframes_.size())};
+}
+
+LoopEvent LoopCloser::addKeyframe(std::size_t stop, const CPose2D& pose, const CPose2D& odometry,
+                                  double travel_m, const mrpt::maps::CPointsMap& cloud_robot,
+                                  double d_min_m, const IcpResult* reg)
+{
+  LoopEvent ev;
+  Keyframe kf;
+  kf.stop = stop;
+  kf.pose = pose;
+  kf.odometry = odometry;
+  kf.travel_m = travel_m;
+  kf.cloud = reduceCloud(cloud_robot, d_min_m);
+  const std::size_t k = keyframes_.size();
+  graph_->net.nodes[k] = pose;
+  if (k > 0)
+  {
+    const Keyframe& prev = keyframes_.back();
+    mrpt::graphs::CNetworkOfPoses2DInf::edge_t e;
+    e.mean = pose - prev.pose;
+    const Eigen::Matrix3d info = edgeInformation(reg, prev.pose, xyDist(pose, prev.pose));
+    for (int i = 0; i < 3; i++)
+      for (int j = 0; j < 3; j++) e.cov_inv(i, j) = info(i, j);
+    graph_->net.insertEdge(k - 1, k, e);
+  }
+  keyframes_.push_back(std::move(kf));
+  if (!params_.enabled) return ev;
+
+  mrpt::system::CTicTac tic;
+  std::size_t anchor = 0;
+  const auto m = match(ev, anchor);
+  ev.t_detect_ms = 1e3 * tic.Tac();
+  if (pending_ && k - pending_->kf > static_cast<std::size_t>(params_.confirm_within))
+  {
+    ev.message += (ev.message.empty() ? "" : "; ") + std::string("loop candidate at stop ") +
+                  std::to_string(keyframes_[pending_->kf].stop) + " not confirmed: dropped";
+    pending_.reset();
+  }
+  if (!m) return ev;
+  const Keyframe& cur = keyframes_.back();
+  ev.with_stop = keyframes_[anchor].stop;
+  ev.correction_m = xyDist(m->pose, cur.pose);
+  ev.correction_yaw = yawDiff(m->pose, cur.pose);
+  std::ostringstream msg;
+  msg.precision(3);
+  if (ev.correction_m <= params_.consistent_m && std::abs(ev.correction_yaw) <= params_.consistent_yaw)
+  {
+    addLoopEdge(anchor, k, m->pose, *m);
+    ev.consistent = true;
+    msg << "consistent with stop " << ev.with_stop << " (correction " << ev.correction_m << " m)";
+    ev.message = msg.str();
+    return ev;
+  }
+  if (pending_)
+  {
+    // Verification: the first match carried forward by the odometry must
+    // land where this stop's own match puts it.
+    const Keyframe& pk = keyframes_[pending_->kf];
+    const CPose2D moved = cur.odometry - pk.odometry;
+    const CPose2D expect = pending_->matched + moved;
+    const double dist = std::hypot(moved.x(), moved.y());
+    const double err = xyDist(expect, m->pose);
+    const double err_yaw = std::abs(yawDiff(expect, m->pose));
+    if (err <= params_.confirm_xy_m + params_.confirm_per_m * dist && err_yaw <= params_.confirm_yaw)
+    {
+      addLoopEdge(pending_->anchor, pending_->kf, pending_->matched, pending_->reg);
+      addLoopEdge(anchor, k, m->pose, *m);
+      const std::size_t first_stop = pk.stop;
+      pending_.reset();
+      tic.Tic();
+      const auto [max_shift, mean_shift] = optimize();
+      ev.t_optimize_ms = 1e3 * tic.Tac();
+      ev.closed = true;
+      ev.graph_shift_max_m = max_shift;
+      ev.graph_shift_mean_m = mean_shift;
+      msg << "loop closed with stop " << ev.with_stop << " (correction " << ev.correction_m
+          << " m, " << mrpt::RAD2DEG(ev.correction_yaw) << " deg; confirmed by stop "
+          << first_stop << "); graph moved " << max_shift << " m at most";
+      ev.message = msg.str();
+      return ev;
+    }
+    msg << "loop candidate at stop " << pk.stop << " disagrees with this one by " << err
+        << " m, " << mrpt::RAD2DEG(err_yaw) << " deg: replaced; ";
+  }
+  pending_ = Pending{k, anchor, m->pose, *m};
+  ev.candidate = true;
+  msg << "loop candidate with stop " << ev.with_stop << " (correction " << ev.correction_m
+      << " m, goodness " << m->goodness << "), to be confirmed";
+  ev.message = msg.str();
+  return ev;
+}
+
+}  // namespace voxplore::mapping
