@@ -12,6 +12,8 @@
 #include <sstream>
 #include <unordered_set>
 
+#include "cell_key.h"
+
 namespace voxplore::mapping
 {
 using mrpt::poses::CPose2D;
@@ -107,13 +109,7 @@ void LoopClosureParams::saveToConfigFile(mrpt::config::CConfigFileBase& c, const
 
 namespace
 {
-uint64_t cellKey(int64_t ix, int64_t iy, int64_t iz)
-{
-  constexpr int64_t kOff = 1 << 20;
-  constexpr uint64_t kMask = (1u << 21) - 1;
-  return ((static_cast<uint64_t>(ix + kOff) & kMask) << 42) |
-         ((static_cast<uint64_t>(iy + kOff) & kMask) << 21) | (static_cast<uint64_t>(iz + kOff) & kMask);
-}
+using detail::cellKey;
 
 double yawDiff(const CPose2D& a, const CPose2D& b) { return mrpt::math::wrapToPi(a.phi() - b.phi()); }
 double xyDist(const CPose2D& a, const CPose2D& b) { return std::hypot(a.x() - b.x(), a.y() - b.y()); }
@@ -148,6 +144,15 @@ mrpt::maps::CSimplePointsMap reduceCloud(const mrpt::maps::CPointsMap& cloud, do
 struct LoopCloser::Graph
 {
   mrpt::graphs::CNetworkOfPoses2DInf net;
+
+  void addEdge(std::size_t from, std::size_t to, const CPose2D& mean, const Eigen::Matrix3d& info)
+  {
+    mrpt::graphs::CNetworkOfPoses2DInf::edge_t e;
+    e.mean = mean;
+    for (int i = 0; i < 3; i++)
+      for (int j = 0; j < 3; j++) e.cov_inv(i, j) = info(i, j);
+    net.insertEdge(from, to, e);
+  }
 };
 
 LoopCloser::LoopCloser(const LoopClosureParams& params, const IcpParams& icp)
@@ -291,12 +296,8 @@ std::optional<IcpResult> LoopCloser::match(LoopEvent& ev, std::size_t& anchor)
 void LoopCloser::addLoopEdge(std::size_t anchor, std::size_t kf, const CPose2D& matched,
                              const IcpResult& reg)
 {
-  mrpt::graphs::CNetworkOfPoses2DInf::edge_t e;
-  e.mean = matched - keyframes_[anchor].pose;
-  const Eigen::Matrix3d info = edgeInformation(&reg, keyframes_[anchor].pose, 0);
-  for (int i = 0; i < 3; i++)
-    for (int j = 0; j < 3; j++) e.cov_inv(i, j) = info(i, j);
-  graph_->net.insertEdge(anchor, kf, e);
+  const CPose2D& from = keyframes_[anchor].pose;
+  graph_->addEdge(anchor, kf, matched - from, edgeInformation(&reg, from, 0));
   loop_edges_++;
 }
 
@@ -336,12 +337,8 @@ LoopEvent LoopCloser::addKeyframe(std::size_t stop, const CPose2D& pose, const C
   if (k > 0)
   {
     const Keyframe& prev = keyframes_.back();
-    mrpt::graphs::CNetworkOfPoses2DInf::edge_t e;
-    e.mean = pose - prev.pose;
-    const Eigen::Matrix3d info = edgeInformation(reg, prev.pose, xyDist(pose, prev.pose));
-    for (int i = 0; i < 3; i++)
-      for (int j = 0; j < 3; j++) e.cov_inv(i, j) = info(i, j);
-    graph_->net.insertEdge(k - 1, k, e);
+    graph_->addEdge(k - 1, k, pose - prev.pose,
+                    edgeInformation(reg, prev.pose, xyDist(pose, prev.pose)));
   }
   keyframes_.push_back(std::move(kf));
   if (!params_.enabled) return ev;

@@ -1,6 +1,8 @@
 #include <voxplore/common/config.h>
 #include <voxplore/mapping/Metaview.h>
 
+#include "cell_key.h"
+
 #include <cmath>
 
 namespace voxplore::mapping
@@ -20,11 +22,7 @@ Metaview::Metaview(const MetaviewParams& params) : params_(params) {}
 
 uint64_t Metaview::cellKey(int64_t ix, int64_t iy, int64_t iz) const
 {
-  // 21 bits per axis (+-1M cells: +-20 km at 2 cm).
-  constexpr int64_t kOff = 1 << 20;
-  constexpr uint64_t kMask = (1u << 21) - 1;
-  return ((static_cast<uint64_t>(ix + kOff) & kMask) << 42) |
-         ((static_cast<uint64_t>(iy + kOff) & kMask) << 21) | (static_cast<uint64_t>(iz + kOff) & kMask);
+  return detail::cellKey(ix, iy, iz);
 }
 
 bool Metaview::hasNeighbourWithin(

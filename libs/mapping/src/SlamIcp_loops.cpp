@@ -35,7 +35,9 @@ void SlamIcp::applyCorrection()
 {
   const auto& kfs = loop_.keyframes();
   if (kfs.empty()) return;
-  const std::vector<StopReport> before = reports_;
+  std::vector<CPose2D> before;  // the poses before the correction, by stop index
+  before.reserve(reports_.size());
+  for (const auto& r : reports_) before.push_back(r.pose);
   std::size_t ki = 0;
   for (auto& r : reports_)
   {
@@ -45,7 +47,7 @@ void SlamIcp::applyCorrection()
     if (kf.stop == r.index)
       r.pose = kf.pose;
     else  // not integrated: keep its offset to the keyframe before it
-      r.pose = kf.pose + (before[r.index].pose - before[kf.stop].pose);
+      r.pose = kf.pose + (before[r.index] - before[kf.stop]);
   }
   // The simplemap's keyframes are the integrated stops, in order.
   if (simplemap_.size() != kfs.size())
