@@ -96,11 +96,7 @@ ExploreConfig loadConfig(const ExploreOptions& opts)
 
 void ExploreParams::loadFromConfigFile(const mrpt::config::CConfigFileBase& c, const std::string& s)
 {
-  MRPT_LOAD_CONFIG_VAR(max_steps, int, c, s);
-  MRPT_LOAD_CONFIG_VAR(max_sim_time_s, double, c, s);
-  MRPT_LOAD_CONFIG_VAR(max_failures_per_target, int, c, s);
-  MRPT_LOAD_CONFIG_VAR(max_plans_per_target, int, c, s);
-  MRPT_LOAD_CONFIG_VAR(min_progress_m, double, c, s);
+  mission::ExplorationLoopParams::loadFromConfigFile(c, s);
   MRPT_LOAD_CONFIG_VAR(write_step_images, bool, c, s);
   MRPT_LOAD_CONFIG_VAR(step_image_scale, int, c, s);
   MRPT_LOAD_CONFIG_VAR(gt_floor_res_m, double, c, s);
@@ -109,12 +105,6 @@ void ExploreParams::loadFromConfigFile(const mrpt::config::CConfigFileBase& c, c
   MRPT_LOAD_CONFIG_VAR(band_z_min_m, double, c, s);
   MRPT_LOAD_CONFIG_VAR(band_z_max_m, double, c, s);
   MRPT_LOAD_CONFIG_VAR(region_from_world, bool, c, s);
-  common::requireValid(max_steps >= 0, c, s, "max_steps", "must be >= 0");
-  common::requireValid(max_sim_time_s > 0, c, s, "max_sim_time_s", "must be > 0");
-  common::requireValid(max_plans_per_target >= 0, c, s, "max_plans_per_target", "must be >= 0");
-  common::requireValid(min_progress_m >= 0, c, s, "min_progress_m", "must be >= 0");
-  common::requireValid(max_failures_per_target >= 1, c, s, "max_failures_per_target",
-                       "must be >= 1");
   common::requireValid(step_image_scale >= 1, c, s, "step_image_scale", "must be >= 1");
   common::requireValid(gt_floor_res_m > 0, c, s, "gt_floor_res_m", "must be > 0");
   common::requireValid(coverage_yaw_bins >= 2 && coverage_yaw_bins <= 128, c, s,
@@ -126,11 +116,7 @@ void ExploreParams::loadFromConfigFile(const mrpt::config::CConfigFileBase& c, c
 
 void ExploreParams::saveToConfigFile(mrpt::config::CConfigFileBase& c, const std::string& s) const
 {
-  MRPT_SAVE_CONFIG_VAR(max_steps, c, s);
-  MRPT_SAVE_CONFIG_VAR(max_sim_time_s, c, s);
-  MRPT_SAVE_CONFIG_VAR(max_failures_per_target, c, s);
-  MRPT_SAVE_CONFIG_VAR(max_plans_per_target, c, s);
-  MRPT_SAVE_CONFIG_VAR(min_progress_m, c, s);
+  mission::ExplorationLoopParams::saveToConfigFile(c, s);
   MRPT_SAVE_CONFIG_VAR(write_step_images, c, s);
   MRPT_SAVE_CONFIG_VAR(step_image_scale, c, s);
   MRPT_SAVE_CONFIG_VAR(gt_floor_res_m, c, s);

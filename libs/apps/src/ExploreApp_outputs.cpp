@@ -172,7 +172,7 @@ double ExploreRun::coverageOf(const exploration::GroundGrid& g) const
 }
 
 void ExploreRun::writeCoverageRow(const exploration::PlanResult& p, double coverage,
-                                  double coverage_planner_circle)
+                                  double coverage_planner_circle, double slam_ms)
 {
   coverage_csv_ << mrpt::format(
       "%zu,%zu,%.3f,%.4f,%.5f,%zu,%s,%.3f,%.3f,%zu,%.1f,%.1f,%.1f,%.1f,%.1f,%.1f,%.1f,%.1f,%zu,%zu,"
@@ -180,9 +180,9 @@ void ExploreRun::writeCoverageRow(const exploration::PlanResult& p, double cover
       s_.steps, s_.stops, sim_.simTime(), s_.path_length_m, coverage,
       p.frontiers ? p.frontiers->frontiers.size() : std::size_t(0),
       p.ok() ? "no" : exploration::toString(p.done), p.target.x(), p.target.y(),
-      p.waypoints.size(), slam_ms_step_, p.ms.projection, p.ms.collision, p.ms.frontiers,
-      p.ms.sampling, p.ms.rating, p.ms.path, p.ms.total, slam_.metaview().size(),
-      slam_.octomap().tree().size(), processMemoryMb("VmRSS:"), coverage_planner_circle);
+      p.waypoints.size(), slam_ms, p.ms.projection, p.ms.collision, p.ms.frontiers,
+      p.ms.sampling, p.ms.rating, p.ms.path, p.ms.total, slam().metaview().size(),
+      slam().octomap().tree().size(), processMemoryMb("VmRSS:"), coverage_planner_circle);
   coverage_csv_.flush();
   // coverage.png follows coverage.csv at every step (a few ms), so a run cut
   // short still leaves it.
@@ -206,7 +206,7 @@ void ExploreRun::writeStepImage(const exploration::PlanResult& plan)
 {
   if (!plan.ground) return;
   const auto path = fs::path(out_dir_) / "steps" / mrpt::format("step_%03zu.png", s_.steps);
-  exploration::renderPlan(plan, slam_.currentPose(), path.string(), trajectoryInMap(0.05),
+  exploration::renderPlan(plan, slam().currentPose(), path.string(), trajectoryInMap(0.05),
                           cfg_.explore.step_image_scale);
 }
 
@@ -216,7 +216,7 @@ void ExploreRun::saveMapsAfterFailure() noexcept
   {
     est_tum_.reset();
     rawlog_.reset();
-    if (slam_.numStops() > 0) slam_.saveOutputs(out_dir_);
+    if (slam().numStops() > 0) slam().saveOutputs(out_dir_);
   }
   catch (const std::exception& e)
   {
@@ -230,20 +230,23 @@ void ExploreRun::finish()
   est_tum_.reset();  // saveOutputs() rewrites trajectory_est.tum with the same poses
   rawlog_.reset();
   gt_tum_.reset();
-  slam_.saveOutputs(out_dir_);
+  slam().saveOutputs(out_dir_);
+  const auto& status = loop_->status();
+  s_.failed_drives = status.failed_drives;
+  s_.blacklisted = status.blacklisted;
 
   const auto t0 = std::chrono::steady_clock::now();
   const double res = cfg_.slam.octomap.l_res_m;
   const mrpt::poses::CPose3D T_world_map3(T_world_map_);
   const auto ground =
-      exploration::projectToGround(slam_.octomap().tree(), slam_.currentPose(),
-                                   cfg_.planner.projection, swept_);
+      exploration::projectToGround(slam().octomap().tree(), slam().currentPose(),
+                                   cfg_.planner.projection, loop_->sweptPath());
   s_.coverage_2d = coverageOf(ground);
   s_.coverage_2d_planner_circle =
       explore_detail::coverage2d(ground, gt_floor_planner_.free_floor, T_world_map_);
   s_.coverage_2d_circumradius =
       explore_detail::coverage2d(ground, gt_floor_body_.free_floor, T_world_map_);
-  const auto occupied = slam_.octomap().occupiedVoxelCenters();
+  const auto occupied = slam().octomap().occupiedVoxelCenters();
   const auto band = sim::occupiedVoxels(sim_.world().mesh, res, cfg_.explore.band_z_min_m,
                                         cfg_.explore.band_z_max_m);
   s_.coverage_3d = explore_detail::coverage3d(occupied, T_world_map3, band, res);
@@ -257,10 +260,10 @@ void ExploreRun::finish()
   s_.map_precision_above_floor =
       eval::mapPrecision(above_floor, T_world_map3, surface, res).precision;
   s_.collisions = sim_.robot().collisions();
-  s_.loop_closures = slam_.loopClosures();
-  s_.loop_edges = slam_.loopCloser().numLoopEdges();
-  s_.loop_max_shift_m = slam_.maxGraphShift();
-  for (const auto& r : slam_.reports())
+  s_.loop_closures = slam().loopClosures();
+  s_.loop_edges = slam().loopCloser().numLoopEdges();
+  s_.loop_max_shift_m = slam().maxGraphShift();
+  for (const auto& r : slam().reports())
   {
     s_.flagged_stops += r.flagged;
     s_.relocalized_stops += r.relocalized;
@@ -272,7 +275,7 @@ void ExploreRun::finish()
   s_.ate_rmse_m = eval::trajectoryError(common::readTum((dir / "trajectory_est.tum").string()),
                                         common::readTum((dir / "trajectory_gt.tum").string()))
                       .ate_rmse_m;
-  s_.compute_s = compute_s_;
+  s_.compute_s = status.compute_s;
   s_.sim_time_s = sim_.simTime();
   s_.peak_rss_mb = processMemoryMb("VmHWM:");
   writeCoveragePlot(readCoverageSeries(dir / "coverage.csv"), (dir / "coverage.png").string());

@@ -1,12 +1,9 @@
-// voxplore-explore: the exploration loop (thesis fig. 4.4) with stop-and-scan
-// driving (thesis 4.6): scan -> SlamIcp -> plan -> one waypoint at a time,
-// stop and scan at each; a failed drive scans and replans, a frontier that
-// fails max_failures_per_target times is blacklisted (as explore_lite does).
+// voxplore-explore on mrpt-sim: mission::ExplorationLoop (thesis fig. 4.4,
+// 4.6) over the simulator, with the ground truth, the evaluation and the
+// outputs around it.
 #include <mrpt/core/format.h>
 
-#include <algorithm>
 #include <chrono>
-#include <limits>
 #include <cmath>
 #include <iostream>
 
@@ -19,14 +16,6 @@ namespace voxplore::apps
 {
 namespace
 {
-/// Thrown from a robot step to end the run there (mid-drive): SIGINT /
-/// SIGTERM, or the simulated time limit. Not a std::exception, so that no
-/// error handler on the way mistakes it for a failure.
-struct RunStopped
-{
-  const char* reason;
-};
-
 double secondsSince(std::chrono::steady_clock::time_point t0)
 {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
@@ -40,15 +29,10 @@ ExploreRun::ExploreRun(
       out_dir_(std::move(out_dir)),
       quiet_(quiet),
       robot_(sim),
-      slam_(cfg.slam),
+      scans_(sim),
+      clock_(sim),
       T_world_map_(sim.robot().groundTruth())
 {
-  driver_ = std::make_unique<navigation::StopAndScanDriver>(robot_, cfg_.driver);
-  robot_.on_step = [this]() { onRobotStep(); };
-  // Between stops the navigator sees the SLAM pose of the last stop composed
-  // with the odometry increment since then (never the ground truth).
-  robot_.setPoseSource(
-      [this]() { return pose_at_stop_ + (robot_.odometry() - odo_at_stop_); });
   const Eigen::AlignedBox2d region = sim::obstacleBounds(sim_.checker());
   const bool bounded = cfg_.explore.region_from_world && !region.isEmpty();
   if (bounded)
@@ -67,7 +51,13 @@ ExploreRun::ExploreRun(
   }
   computeGroundTruthFloor(bounded ? &region : nullptr);
   gt_path_.push_back(T_world_map_);
+  // Between stops the navigator sees the SLAM pose of the last stop composed
+  // with the odometry increment since then (never the ground truth).
+  loop_ = std::make_unique<mission::ExplorationLoop>(robot_, scans_, clock_, cfg_.slam,
+                                                     cfg_.planner, cfg_.driver, cfg_.explore, this);
 }
+
+ExploreRun::~ExploreRun() = default;
 
 void ExploreRun::computeGroundTruthFloor(const Eigen::AlignedBox2d* region)
 {
@@ -118,18 +108,14 @@ ExploreSummary ExploreRun::execute()
   openOutputs();
   try
   {
-    loop();
-  }
-  catch (const RunStopped& stop)  // between two robot steps of a drive
-  {
-    robot_.stop();
-    s_.termination_reason = stop.reason;
+    const auto& status = loop_->run();
+    s_.termination_reason = status.termination_reason;
   }
   catch (const std::exception& e)
   {
     saveMapsAfterFailure();
     throw std::runtime_error(std::string(e.what()) + " (the maps and logs of the " +
-                             std::to_string(slam_.numStops()) + " stops so far are in " +
+                             std::to_string(slam().numStops()) + " stops so far are in " +
                              out_dir_ + ")");
   }
   finish();
@@ -139,78 +125,17 @@ ExploreSummary ExploreRun::execute()
   return s_;
 }
 
-void ExploreRun::loop()
+void ExploreRun::onScan(const mission::Scan& scan)
 {
-  scanAndIntegrate();
-  for (std::size_t step = 0;; step++)
-  {
-    if (interruptRequested())
-    {
-      s_.termination_reason = "interrupted";
-      return;
-    }
-    if (step >= static_cast<std::size_t>(cfg_.explore.max_steps))
-    {
-      s_.termination_reason = "max_steps";
-      return;
-    }
-    if (sim_.simTime() >= cfg_.explore.max_sim_time_s)
-    {
-      s_.termination_reason = "max_sim_time";
-      return;
-    }
-    const auto t0 = std::chrono::steady_clock::now();
-    const auto plan = exploration::plan(slam_.octomap().tree(), slam_.currentPose(), cfg_.planner,
-                                        blacklist_, step, swept_);
-    const double plan_s = secondsSince(t0);
-    compute_s_ += plan_s;
-    s_.steps = step + 1;
-    reportStep(plan, plan_s * 1e3);
-    slam_ms_step_ = 0;
-    if (!plan.ok())
-    {
-      s_.termination_reason = exploration::toString(plan.done);
-      return;
-    }
-    // A frontier planned again and again without disappearing (an unseeable
-    // hole, a target the robot already stands on) is given up, and a step
-    // that does not move the robot counts as a failed drive.
-    const Eigen::Vector2d target =
-        plan.frontier ? plan.frontier->center : Eigen::Vector2d(plan.target.x(), plan.target.y());
-    registerPlan(target);
-    const double path_before = s_.path_length_m;
-    if (driveWaypoints(plan) && s_.path_length_m - path_before < cfg_.explore.min_progress_m)
-      registerFailure(target);
-  }
+  rawlog_->write(*scan.actions, *scan.observations);
+  gt_tum_->write(mrpt::Clock::toDouble(scan.timestamp),
+                 mrpt::poses::CPose3D(scans_.last().T_world_robot_gt));
 }
 
-void ExploreRun::scanAndIntegrate()
+void ExploreRun::onStop(const mission::Scan& scan, const mapping::StopReport& rep)
 {
-  const auto stop = sim_.scan();
-  rawlog_->write(*stop.actions, *stop.observations);
-  const double t = mrpt::Clock::toDouble(stop.timestamp);
-  gt_tum_->write(t, mrpt::poses::CPose3D(stop.T_world_robot_gt));
-  const auto t0 = std::chrono::steady_clock::now();
-  const auto rep = slam_.processStop(*stop.observations, stop.odometry, stop.timestamp);
-  const double dt = secondsSince(t0);
-  compute_s_ += dt;
-  slam_ms_step_ += dt * 1e3;
-  est_tum_->write(t, mrpt::poses::CPose3D(rep.pose));
-  pose_at_stop_ = rep.pose;
-  odo_at_stop_ = robot_.odometry();
-  if (rep.loop.closed)
-  {
-    // The poses so far were corrected: the swept path follows them.
-    swept_.clear();
-    for (const auto& r : slam_.reports()) addSwept({r.pose.x(), r.pose.y()});
-    if (!quiet_)
-      std::cout << "  stop " << rep.index << ": " << rep.loop.message
-                << (rep.loop.rebuilt ? mrpt::format("; maps rebuilt in %.0f ms", rep.loop.t_rebuild_ms)
-                                     : std::string())
-                << std::endl;
-  }
-  addSwept({rep.pose.x(), rep.pose.y()});
-  s_.stops = slam_.numStops();
+  est_tum_->write(mrpt::Clock::toDouble(scan.timestamp), mrpt::poses::CPose3D(rep.pose));
+  s_.stops = slam().numStops();
   for (const auto& w : rep.warnings)
     std::cerr << "voxplore-explore: warning: stop " << rep.index << ": " << w << std::endl;
   if (rep.flagged && !quiet_)
@@ -218,94 +143,8 @@ void ExploreRun::scanAndIntegrate()
               << "), pose from odometry" << std::endl;
 }
 
-bool ExploreRun::driveWaypoints(const exploration::PlanResult& plan)
-{
-  const auto& wps = plan.waypoints;
-  for (std::size_t i = 0; i < wps.size(); i++)
-  {
-    const bool last = i + 1 == wps.size();
-    const auto r = driver_->driveTo(wps[i], last ? std::optional<double>(plan.target.phi())
-                                                 : std::nullopt);
-    scanAndIntegrate();
-    if (!r.reached())
-    {
-      s_.failed_drives++;
-      if (!quiet_)
-        std::cout << "  waypoint " << i + 1 << "/" << wps.size() << " ("
-                  << mrpt::format("%.2f, %.2f", wps[i].x(), wps[i].y())
-                  << "): " << navigation::toString(r.outcome) << ": " << r.message
-                  << "; replanning" << std::endl;
-      registerFailure(plan.frontier ? plan.frontier->center : wps.back());
-      return false;
-    }
-  }
-  return true;
-}
-
-void ExploreRun::registerFailure(const Eigen::Vector2d& target)
-{
-  const double radius = cfg_.planner.sampling.blacklist_radius_m;
-  auto it = std::find_if(failures_.begin(), failures_.end(),
-                         [&](const auto& f) { return (f.first - target).norm() <= radius; });
-  if (it == failures_.end())
-  {
-    failures_.emplace_back(target, 0);
-    it = std::prev(failures_.end());
-  }
-  if (++it->second >= cfg_.explore.max_failures_per_target)
-  {
-    blacklist_.push_back(target);
-    s_.blacklisted = blacklist_.size();
-    if (!quiet_)
-      std::cout << "  target " << mrpt::format("(%.2f, %.2f)", target.x(), target.y())
-                << " failed " << it->second << " times: blacklisted" << std::endl;
-  }
-}
-
-void ExploreRun::registerPlan(const Eigen::Vector2d& target)
-{
-  if (cfg_.explore.max_plans_per_target <= 0) return;
-  const double radius = cfg_.planner.sampling.blacklist_radius_m;
-  auto it = std::find_if(plans_.begin(), plans_.end(),
-                         [&](const auto& f) { return (f.first - target).norm() <= radius; });
-  if (it == plans_.end())
-  {
-    plans_.emplace_back(target, 0);
-    it = std::prev(plans_.end());
-  }
-  if (++it->second >= cfg_.explore.max_plans_per_target)
-  {
-    blacklist_.push_back(target);
-    s_.blacklisted = blacklist_.size();
-    it->second = std::numeric_limits<int>::min();  // once
-    if (!quiet_)
-      std::cout << "  target " << mrpt::format("(%.2f, %.2f)", target.x(), target.y())
-                << " planned " << cfg_.explore.max_plans_per_target
-                << " times without being explored: blacklisted" << std::endl;
-  }
-}
-
-void ExploreRun::addSwept(const Eigen::Vector2d& e)
-{
-  // The swept path in the pose estimate, 5 cm apart and continuous across
-  // the jump of a SLAM correction at a stop (the body's true path is
-  // continuous; either side of the jump is within the pose error).
-  if (swept_.empty())
-  {
-    swept_.push_back(e);
-    return;
-  }
-  const double d = (e - swept_.back()).norm();
-  if (d < 0.05) return;
-  const Eigen::Vector2d from = swept_.back();
-  const int n = static_cast<int>(std::ceil(d / 0.05));
-  for (int k = 1; k <= n; ++k) swept_.push_back(from + (e - from) * (double(k) / n));
-}
-
 void ExploreRun::onRobotStep()
 {
-  const auto est = robot_.pose();  // the estimate the navigator drives by
-  addSwept({est.x(), est.y()});
   const auto& p = sim_.robot().groundTruth();
   const auto& q = gt_path_.back();
   const double d = std::hypot(p.x() - q.x(), p.y() - q.y());
@@ -315,27 +154,36 @@ void ExploreRun::onRobotStep()
     s_.path_length_m += d;
     gt_path_.push_back(p);
   }
-  // The limits hold inside a drive too (a drive may last minutes).
-  if (interruptRequested()) throw RunStopped{"interrupted"};
-  if (sim_.simTime() >= cfg_.explore.max_sim_time_s) throw RunStopped{"max_sim_time"};
 }
 
-void ExploreRun::reportStep(const exploration::PlanResult& plan, double plan_ms)
+void ExploreRun::onMessage(const std::string& line)
 {
+  if (!quiet_) std::cout << "  " << line << std::endl;
+}
+
+std::string ExploreRun::stopReason()
+{
+  return interruptRequested() ? "interrupted" : std::string();
+}
+
+void ExploreRun::onPlan(const exploration::PlanResult& plan, double plan_ms,
+                        const mission::ExplorationStatus& status)
+{
+  s_.steps = status.steps;
   const double coverage = plan.ground ? coverageOf(*plan.ground) : 0.0;
   const double coverage_planner =
       plan.ground
           ? explore_detail::coverage2d(*plan.ground, gt_floor_planner_.free_floor, T_world_map_)
           : 0.0;
   if (plan.ground) last_ground_ = plan.ground;
-  writeCoverageRow(plan, coverage, coverage_planner);
+  writeCoverageRow(plan, coverage, coverage_planner, status.slam_ms_step);
   if (cfg_.explore.write_step_images) writeStepImage(plan);
   if (quiet_) return;
   std::cout << mrpt::format(
                    "step %3zu: stops %3zu  sim %6.1f s  path %6.2f m  coverage %5.3f  "
                    "collisions %zu  plan %6.0f ms  slam %6.0f ms  ",
                    s_.steps, s_.stops, sim_.simTime(), s_.path_length_m, coverage,
-                   sim_.robot().collisions(), plan_ms, slam_ms_step_)
+                   sim_.robot().collisions(), plan_ms, status.slam_ms_step)
             << (plan.ok() ? mrpt::format("-> target (%.2f, %.2f, %.0f deg), %zu waypoints",
                                          plan.target.x(), plan.target.y(),
                                          mrpt::RAD2DEG(plan.target.phi()), plan.waypoints.size())

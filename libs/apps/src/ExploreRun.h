@@ -7,7 +7,7 @@
 #include <voxplore/common/trajectory_io.h>
 #include <voxplore/exploration/Planner.h>
 #include <voxplore/mapping/SlamIcp.h>
-#include <voxplore/navigation/StopAndScanDriver.h>
+#include <voxplore/mission/ExplorationLoop.h>
 #include <voxplore/sim/SimConfig.h>
 #include <voxplore/sim/footprint_reach.h>
 #include <voxplore/sim/ground_truth.h>
@@ -29,48 +29,37 @@ struct ExploreConfig
   ExploreParams explore;
 };
 
-/// @brief SimRobot that reports every step (to record the true trajectory).
-class TrackedSimRobot : public SimRobot
-{
- public:
-  using SimRobot::SimRobot;
-  std::function<void()> on_step;
-  void step(double dt_s) override
-  {
-    SimRobot::step(dt_s);
-    if (on_step) on_step();
-  }
-};
-
-/// @brief The state of one run: simulator robot, SLAM, planner inputs,
-///        writers. execute() runs the loop and writes every output.
-class ExploreRun
+/// @brief One run of voxplore-explore on mrpt-sim: the simulator behind the
+///        mission's interfaces (SimRobot, SimScanSource, SimClock), the
+///        mission::ExplorationLoop, and around it what only a simulator can
+///        give (ground-truth floor, true path, coverage, map accuracy) and the
+///        outputs. execute() runs the loop and writes every output.
+class ExploreRun : public mission::Listener
 {
  public:
   ExploreRun(sim::Simulator& sim, const ExploreConfig& cfg, std::string out_dir, bool quiet);
+  ~ExploreRun() override;
   /// @brief The loop, then the outputs and metrics. On an exception the
   ///        maps so far are written before it propagates.
   ExploreSummary execute();
 
+  // --- mission::Listener (ExploreRun.cpp) ---
+  void onScan(const mission::Scan& scan) override;
+  void onStop(const mission::Scan& scan, const mapping::StopReport& rep) override;
+  void onPlan(const exploration::PlanResult& plan, double plan_ms,
+              const mission::ExplorationStatus& status) override;
+  void onRobotStep() override;
+  void onMessage(const std::string& line) override;
+  std::string stopReason() override;
+
  private:
-  // --- loop (ExploreRun.cpp) ---
-  void loop();
-  void scanAndIntegrate();
-  /// @return false when a drive failed (the caller replans)
-  bool driveWaypoints(const exploration::PlanResult& plan);
-  void registerFailure(const Eigen::Vector2d& target);
-  /// Counts a plan for the frontier at `target`; blacklists it after max_plans_per_target.
-  void registerPlan(const Eigen::Vector2d& target);
-  void onRobotStep();
-  /// Appends an estimated robot position to swept_ (interpolated 5 cm apart).
-  void addSwept(const Eigen::Vector2d& e);
-  void reportStep(const exploration::PlanResult& plan, double plan_ms);
+  const mapping::SlamIcp& slam() const { return loop_->slam(); }
   // --- outputs and metrics (ExploreApp_outputs.cpp) ---
   void openOutputs();
   /// Computes the three ground-truth floors (coverage_2d and the circle figures).
   void computeGroundTruthFloor(const Eigen::AlignedBox2d* region);
   void writeCoverageRow(const exploration::PlanResult& plan, double coverage,
-                        double coverage_planner_circle);
+                        double coverage_planner_circle, double slam_ms);
   void writeStepImage(const exploration::PlanResult& plan);
   /// coverage_2d of `g`: the share of gt_floor_ known as free.
   double coverageOf(const exploration::GroundGrid& g) const;
@@ -82,24 +71,17 @@ class ExploreRun
   ExploreConfig cfg_;
   std::string out_dir_;
   bool quiet_;
-  TrackedSimRobot robot_;
-  std::unique_ptr<navigation::StopAndScanDriver> driver_;
-  mapping::SlamIcp slam_;
+  SimRobot robot_;
+  SimScanSource scans_;
+  SimClock clock_;
+  std::unique_ptr<mission::ExplorationLoop> loop_;
   mrpt::poses::CPose2D T_world_map_;  ///< the robot's true start pose
   sim::FootprintReach gt_floor_;          ///< reachable or seen by the real footprint (coverage_2d)
   sim::ReachableFloor gt_floor_planner_;  ///< reachable for the planner's collision radius (coverage_2d_planner_circle)
   sim::ReachableFloor gt_floor_body_;     ///< reachable for the bare circumcircle (coverage_2d_circumradius)
   std::shared_ptr<const exploration::GroundGrid> last_ground_;  ///< G of the last plan (coverage_map.png)
 
-  // pose estimate between stops: SLAM pose at the last stop + odometry since
-  mrpt::poses::CPose2D pose_at_stop_, odo_at_stop_;
-
-  std::vector<Eigen::Vector2d> blacklist_;
-  std::vector<std::pair<Eigen::Vector2d, int>> failures_;
-  std::vector<std::pair<Eigen::Vector2d, int>> plans_;  ///< frontier centre -> plans so far
-  std::vector<Eigen::Vector2d> swept_;  ///< estimated robot positions (map frame), 5 cm apart
   std::vector<mrpt::poses::CPose2D> gt_path_;  ///< true poses, every robot step that moved
-  double compute_s_ = 0, slam_ms_step_ = 0;
   ExploreSummary s_;
 
   std::unique_ptr<common::RawlogWriter> rawlog_;

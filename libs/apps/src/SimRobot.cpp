@@ -96,4 +96,15 @@ void SimRobot::step(double dt_s)
   mrpt::Clock::setSimulatedTime(sim_.now());
 }
 
+mission::Scan SimScanSource::scan()
+{
+  last_ = sim_.scan();
+  mission::Scan s;
+  s.timestamp = last_.timestamp;
+  s.odometry = last_.odometry;
+  s.observations = last_.observations;
+  s.actions = last_.actions;
+  return s;
+}
+
 }  // namespace voxplore::apps

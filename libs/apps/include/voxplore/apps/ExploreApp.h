@@ -2,6 +2,7 @@
 #pragma once
 
 #include <mrpt/config/CLoadableOptions.h>
+#include <voxplore/mission/ExplorationLoop.h>
 
 #include <cstddef>
 #include <optional>
@@ -9,14 +10,11 @@
 
 namespace voxplore::apps
 {
-/// @brief Settings of the exploration loop. ini section [explore].
-struct ExploreParams : public mrpt::config::CLoadableOptions
+/// @brief Settings of voxplore-explore. ini section [explore]: the loop's
+///        limits (mission::ExplorationLoopParams) and the simulator's
+///        outputs and ground-truth evaluation.
+struct ExploreParams : public mission::ExplorationLoopParams
 {
-  int max_steps = 100;              ///< planning steps before giving up ("max_steps")
-  double max_sim_time_s = 3600.0;   ///< simulated seconds before giving up ("max_sim_time") [s]
-  int max_failures_per_target = 2;  ///< failed drives towards one frontier before it is blacklisted
-  int max_plans_per_target = 0;     ///< plans for one frontier before it is blacklisted; 0 = no limit (a frontier explored a little at every step, e.g. down a corridor, is planned many times)
-  double min_progress_m = 0.05;     ///< a step that moves the robot less than this counts as a failed drive [m]
   bool write_step_images = true;    ///< steps/step_NNN.png (renderPlan) at every step
   int step_image_scale = 4;         ///< pixels per grid cell of the step images
   double gt_floor_res_m = 0.05;     ///< resolution of the ground-truth free floor (coverage_2d) [m]

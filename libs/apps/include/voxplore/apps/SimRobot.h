@@ -1,6 +1,7 @@
 /* voxplore — the simulator behind navigation::RobotInterface. */
 #pragma once
 
+#include <voxplore/mission/ExplorationLoop.h>
 #include <voxplore/navigation/RobotInterface.h>
 #include <voxplore/sim/Simulator.h>
 
@@ -86,6 +87,32 @@ class SimRobot : public navigation::RobotInterface
   mrpt::poses::CPose2D odometry_origin_;
   mrpt::Clock::Source previous_clock_;
   std::vector<Eigen::Vector3f> dirs_robot_;  ///< per ray, robot frame (unit, z = 0)
+};
+
+/// @brief mission::ScanSource over a sim::Simulator: Simulator::scan(),
+///        keeping the last stop (its ground-truth pose, for the evaluation).
+class SimScanSource : public mission::ScanSource
+{
+ public:
+  explicit SimScanSource(sim::Simulator& sim) : sim_(sim) {}
+  mission::Scan scan() override;
+  /// @brief The last stop scan() delivered (index, ground truth, ...).
+  const sim::ScanStop& last() const { return last_; }
+
+ private:
+  sim::Simulator& sim_;
+  sim::ScanStop last_;
+};
+
+/// @brief mission::Clock of a sim::Simulator: its simulated time.
+class SimClock : public mission::Clock
+{
+ public:
+  explicit SimClock(const sim::Simulator& sim) : sim_(sim) {}
+  mrpt::Clock::time_point now() const override { return sim_.now(); }
+
+ private:
+  const sim::Simulator& sim_;
 };
 
 }  // namespace voxplore::apps

@@ -1,0 +1,216 @@
+/* voxplore — the exploration loop behind three interfaces: a robot, a scan source, a clock.
+ *
+ * The loop of thesis fig. 4.4 with stop-and-scan driving (thesis 4.6):
+ * scan -> SlamIcp -> plan -> drive one waypoint at a time with MRPT's
+ * reactive navigator, stop and scan at each; a failed drive scans and
+ * replans, a frontier that fails max_failures_per_target times is
+ * blacklisted (as explore_lite does).
+ *
+ * Nothing here knows the simulator. To explore with a real robot implement
+ *   - navigation::RobotInterface: velocity commands in; odometry, obstacle
+ *     points and the robot's time out (the loop composes the pose estimate
+ *     itself from the SLAM pose at the last stop and the odometry since, so
+ *     the robot's own pose() is never read);
+ *   - ScanSource: the depth images of every camera on demand, taken while
+ *     the robot stands still;
+ *   - Clock: the time the run's limit (max_sim_time_s) is measured in
+ *     (SystemClock for a real robot);
+ * then construct an ExplorationLoop and call run(). README "Plugging in a
+ * robot" walks through it; apps::ExploreRun runs it on mrpt-sim. */
+#pragma once
+
+#include <mrpt/config/CLoadableOptions.h>
+#include <mrpt/core/Clock.h>
+#include <mrpt/obs/CActionCollection.h>
+#include <mrpt/obs/CSensoryFrame.h>
+#include <mrpt/poses/CPose2D.h>
+#include <voxplore/exploration/Planner.h>
+#include <voxplore/mapping/SlamIcp.h>
+#include <voxplore/navigation/DriverParams.h>
+#include <voxplore/navigation/RobotInterface.h>
+
+#include <Eigen/Core>
+#include <cstddef>
+#include <memory>
+#include <string>
+#include <utility>
+#include <vector>
+
+namespace voxplore::navigation
+{
+class StopAndScanDriver;
+}
+
+namespace voxplore::mission
+{
+/// @brief What the robot delivers at one stop.
+struct Scan
+{
+  mrpt::Clock::time_point timestamp;  ///< when the images were taken
+  /// Accumulated odometry at the scan (own frame, may drift): the SLAM's
+  /// motion prior between stops.
+  mrpt::poses::CPose2D odometry;
+  /// One mrpt::obs::CObservation3DRangeScan per camera (depth image,
+  /// intrinsics, sensorPose on the robot; see DESIGN.md) and optionally a
+  /// CObservationOdometry. Must not be null.
+  mrpt::obs::CSensoryFrame::Ptr observations;
+  /// Optional: the odometry increment since the previous stop as a
+  /// CActionRobotMovement2D (for a .rawlog of the run); may be null.
+  mrpt::obs::CActionCollection::Ptr actions;
+};
+
+/// @brief A source of depth scans on demand.
+class ScanSource
+{
+ public:
+  virtual ~ScanSource() = default;
+  /// @brief Takes one scan with every camera. Called only while the robot
+  ///        stands still (after RobotInterface::stop() and a drive's end).
+  /// @throws std::runtime_error when the sensors cannot deliver (ends the run
+  ///         with that error; the maps so far stay in ExplorationLoop::slam()).
+  virtual Scan scan() = 0;
+};
+
+/// @brief The time a run is measured in.
+class Clock
+{
+ public:
+  virtual ~Clock() = default;
+  virtual mrpt::Clock::time_point now() const = 0;
+};
+
+/// @brief Clock of a real robot: MRPT's active clock (mrpt::Clock::now()).
+class SystemClock : public Clock
+{
+ public:
+  mrpt::Clock::time_point now() const override { return mrpt::Clock::now(); }
+};
+
+/// @brief Limits and target bookkeeping of the loop. ini section [explore]
+///        (apps::ExploreParams adds the simulator's evaluation keys there).
+struct ExplorationLoopParams : public mrpt::config::CLoadableOptions
+{
+  int max_steps = 100;              ///< planning steps before giving up ("max_steps")
+  /// Seconds of the Clock before giving up ("max_sim_time"), also inside a
+  /// drive; the key keeps its name from the simulator [s]
+  double max_sim_time_s = 3600.0;
+  int max_failures_per_target = 2;  ///< failed drives towards one frontier before it is blacklisted
+  int max_plans_per_target = 0;     ///< plans for one frontier before it is blacklisted; 0 = no limit (a frontier explored a little at every step, e.g. down a corridor, is planned many times)
+  double min_progress_m = 0.05;     ///< a step that moves the robot less than this counts as a failed drive [m]
+
+  void loadFromConfigFile(const mrpt::config::CConfigFileBase& c, const std::string& s) override;
+  void saveToConfigFile(mrpt::config::CConfigFileBase& c, const std::string& s) const override;
+};
+
+/// @brief The loop's state after each step, and its end.
+struct ExplorationStatus
+{
+  /// Empty while running; then the planner's done reason ("no frontier",
+  /// ...), "max_steps", "max_sim_time", or what Listener::stopReason() said
+  std::string termination_reason;
+  std::size_t steps = 0;          ///< planning steps
+  std::size_t failed_drives = 0;  ///< waypoints not reached (Blocked / Timeout / Error)
+  std::size_t blacklisted = 0;    ///< targets given up
+  double path_length_m = 0;       ///< travelled by the pose estimate between stops [m]
+  double compute_s = 0;           ///< wall time of SLAM + planning [s]
+  double slam_ms_step = 0;        ///< SLAM time of the current step so far [ms]
+  double elapsed_s = 0;           ///< Clock time since run() started [s]
+};
+
+/// @brief Hooks for whoever runs the loop (logging, evaluation, a GUI).
+///        Every method has a default; they are called on the loop's thread.
+class Listener
+{
+ public:
+  virtual ~Listener() = default;
+  /// @brief A scan as the source delivered it, before SlamIcp sees it (record
+  ///        it here: a stop that makes SLAM throw is then in the log too).
+  virtual void onScan(const Scan& /*scan*/) {}
+  /// @brief After SlamIcp processed a stop (`scan` as the source delivered it).
+  virtual void onStop(const Scan& /*scan*/, const mapping::StopReport& /*report*/) {}
+  /// @brief After each planning step, before its waypoints are driven.
+  virtual void onPlan(const exploration::PlanResult& /*plan*/, double /*plan_ms*/,
+                      const ExplorationStatus& /*status*/)
+  {
+  }
+  /// @brief After every RobotInterface::step() of a drive.
+  virtual void onRobotStep() {}
+  /// @brief A line for the user (failed waypoints, blacklisted targets, loop closures).
+  virtual void onMessage(const std::string& /*line*/) {}
+  /// @brief Polled before each planning step and after each robot step; a
+  ///        non-empty reason ends the run there (e.g. "interrupted" on SIGINT).
+  virtual std::string stopReason() { return {}; }
+};
+
+/// @brief The exploration loop over RobotInterface, ScanSource and Clock.
+///        One run per instance; owns the SLAM, the driver and the targets'
+///        bookkeeping.
+class ExplorationLoop
+{
+ public:
+  /// @param robot velocity commands, odometry, obstacle points, robot time
+  ///        (navigation::StopAndScanDriver drives it; its pose() is not read)
+  /// @param listener optional; must outlive the loop
+  /// @throws std::runtime_error when MRPT rejects the driver configuration.
+  ExplorationLoop(
+      navigation::RobotInterface& robot, ScanSource& scans, const Clock& clock,
+      const mapping::SlamIcpParams& slam, const exploration::PlannerParams& planner,
+      const navigation::DriverParams& driver, const ExplorationLoopParams& params,
+      Listener* listener = nullptr);
+  ~ExplorationLoop();
+  ExplorationLoop(const ExplorationLoop&) = delete;
+  ExplorationLoop& operator=(const ExplorationLoop&) = delete;
+
+  /// @brief Scans, then plans and drives until the planner is done or a
+  ///        limit holds; the robot stands still at the end.
+  /// @return the status, termination_reason set
+  /// @throws whatever the robot, the scan source or SLAM throw; slam() then
+  ///         holds the stops so far (save them with SlamIcp::saveOutputs()).
+  const ExplorationStatus& run();
+
+  const ExplorationStatus& status() const { return status_; }
+  const mapping::SlamIcp& slam() const { return slam_; }
+  /// @brief The estimated path of the robot centre (map frame, 5 cm apart):
+  ///        the planner's swept floor.
+  const std::vector<Eigen::Vector2d>& sweptPath() const { return swept_; }
+  /// @brief Frontier centres given up (map frame).
+  const std::vector<Eigen::Vector2d>& blacklist() const { return blacklist_; }
+  /// @brief The pose the navigator drives by: the SLAM pose at the last
+  ///        stop composed with the odometry increment since (map frame).
+  mrpt::poses::CPose2D poseEstimate() const;
+
+ private:
+  class PosedRobot;
+  void loop();
+  void scanAndIntegrate();
+  /// @return false when a drive failed (the caller replans)
+  bool driveWaypoints(const exploration::PlanResult& plan);
+  void registerFailure(const Eigen::Vector2d& target);
+  /// Counts a plan for the frontier at `target`; blacklists it after max_plans_per_target.
+  void registerPlan(const Eigen::Vector2d& target);
+  void addSwept(const Eigen::Vector2d& e);
+  void onRobotStep();
+  void message(const std::string& line);
+  /// The listener's stop reason, max_steps (only `between_steps`), or the
+  /// time limit; empty when the run goes on.
+  std::string limitReached(bool between_steps);
+
+  navigation::RobotInterface& robot_;
+  ScanSource& scans_;
+  const Clock& clock_;
+  exploration::PlannerParams planner_;
+  ExplorationLoopParams params_;
+  Listener* listener_;
+  mapping::SlamIcp slam_;
+  std::unique_ptr<PosedRobot> posed_;
+  std::unique_ptr<navigation::StopAndScanDriver> driver_;
+  mrpt::Clock::time_point t_start_;
+  mrpt::poses::CPose2D pose_at_stop_, odo_at_stop_, last_estimate_;
+  std::vector<Eigen::Vector2d> blacklist_;
+  std::vector<std::pair<Eigen::Vector2d, int>> failures_;  ///< frontier centre -> failed drives
+  std::vector<std::pair<Eigen::Vector2d, int>> plans_;     ///< frontier centre -> plans so far
+  std::vector<Eigen::Vector2d> swept_;
+  ExplorationStatus status_;
+};
+
+}  // namespace voxplore::mission

@@ -1,0 +1,311 @@
+// The exploration loop (thesis fig. 4.4) with stop-and-scan driving (thesis
+// 4.6), over RobotInterface, ScanSource and Clock only. Our own code: the
+// thesis' algorithm; MRPT's reactive navigator drives each waypoint
+// (navigation::StopAndScanDriver).
+#include <mrpt/core/format.h>
+#include <mrpt/core/bits_math.h>
+#include <voxplore/common/config.h>
+#include <voxplore/mission/ExplorationLoop.h>
+#include <voxplore/navigation/StopAndScanDriver.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <iterator>
+#include <limits>
+#include <optional>
+#include <stdexcept>
+
+namespace voxplore::mission
+{
+namespace
+{
+/// Thrown from a robot step to end the run there (mid-drive): a listener's
+/// stop reason or the time limit. Not a std::exception, so that no error
+/// handler on the way mistakes it for a failure.
+struct RunStopped
+{
+  std::string reason;
+};
+
+double secondsSince(std::chrono::steady_clock::time_point t0)
+{
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+}
+}  // namespace
+
+void ExplorationLoopParams::loadFromConfigFile(const mrpt::config::CConfigFileBase& c,
+                                               const std::string& s)
+{
+  MRPT_LOAD_CONFIG_VAR(max_steps, int, c, s);
+  MRPT_LOAD_CONFIG_VAR(max_sim_time_s, double, c, s);
+  MRPT_LOAD_CONFIG_VAR(max_failures_per_target, int, c, s);
+  MRPT_LOAD_CONFIG_VAR(max_plans_per_target, int, c, s);
+  MRPT_LOAD_CONFIG_VAR(min_progress_m, double, c, s);
+  common::requireValid(max_steps >= 0, c, s, "max_steps", "must be >= 0");
+  common::requireValid(max_sim_time_s > 0, c, s, "max_sim_time_s", "must be > 0");
+  common::requireValid(max_plans_per_target >= 0, c, s, "max_plans_per_target", "must be >= 0");
+  common::requireValid(min_progress_m >= 0, c, s, "min_progress_m", "must be >= 0");
+  common::requireValid(max_failures_per_target >= 1, c, s, "max_failures_per_target",
+                       "must be >= 1");
+}
+
+void ExplorationLoopParams::saveToConfigFile(mrpt::config::CConfigFileBase& c,
+                                             const std::string& s) const
+{
+  MRPT_SAVE_CONFIG_VAR(max_steps, c, s);
+  MRPT_SAVE_CONFIG_VAR(max_sim_time_s, c, s);
+  MRPT_SAVE_CONFIG_VAR(max_failures_per_target, c, s);
+  MRPT_SAVE_CONFIG_VAR(max_plans_per_target, c, s);
+  MRPT_SAVE_CONFIG_VAR(min_progress_m, c, s);
+}
+
+/// The robot as the navigator sees it: the user's robot, with pose() the
+/// loop's estimate (SLAM pose at the last stop + odometry since) and every
+/// step() reported to the loop (swept path, limits).
+class ExplorationLoop::PosedRobot : public navigation::RobotInterface
+{
+ public:
+  PosedRobot(navigation::RobotInterface& robot, ExplorationLoop& loop) : robot_(robot), loop_(loop)
+  {
+  }
+  void setVelocity(double vx_mps, double vy_mps, double w_radps) override
+  {
+    robot_.setVelocity(vx_mps, vy_mps, w_radps);
+  }
+  void stop() override { robot_.stop(); }
+  mrpt::poses::CPose2D pose() const override { return loop_.poseEstimate(); }
+  mrpt::poses::CPose2D odometry() const override { return robot_.odometry(); }
+  mrpt::math::TTwist2D velocity() const override { return robot_.velocity(); }
+  bool obstacles(mrpt::maps::CSimplePointsMap& out_robot_frame) override
+  {
+    return robot_.obstacles(out_robot_frame);
+  }
+  mrpt::Clock::time_point now() const override { return robot_.now(); }
+  void step(double dt_s) override
+  {
+    robot_.step(dt_s);
+    loop_.onRobotStep();
+  }
+  std::optional<std::size_t> collisionCount() const override { return robot_.collisionCount(); }
+
+ private:
+  navigation::RobotInterface& robot_;
+  ExplorationLoop& loop_;
+};
+
+ExplorationLoop::ExplorationLoop(
+    navigation::RobotInterface& robot, ScanSource& scans, const Clock& clock,
+    const mapping::SlamIcpParams& slam, const exploration::PlannerParams& planner,
+    const navigation::DriverParams& driver, const ExplorationLoopParams& params,
+    Listener* listener)
+    : robot_(robot),
+      scans_(scans),
+      clock_(clock),
+      planner_(planner),
+      params_(params),
+      listener_(listener),
+      slam_(slam),
+      posed_(std::make_unique<PosedRobot>(robot, *this)),
+      driver_(std::make_unique<navigation::StopAndScanDriver>(*posed_, driver)),
+      t_start_(clock.now()),
+      odo_at_stop_(robot.odometry())
+{
+}
+
+ExplorationLoop::~ExplorationLoop() = default;
+
+mrpt::poses::CPose2D ExplorationLoop::poseEstimate() const
+{
+  return pose_at_stop_ + (robot_.odometry() - odo_at_stop_);
+}
+
+const ExplorationStatus& ExplorationLoop::run()
+{
+  t_start_ = clock_.now();
+  try
+  {
+    loop();
+  }
+  catch (RunStopped& stop)  // between two robot steps of a drive
+  {
+    robot_.stop();
+    status_.termination_reason = std::move(stop.reason);
+  }
+  status_.elapsed_s = mrpt::Clock::toDouble(clock_.now()) - mrpt::Clock::toDouble(t_start_);
+  return status_;
+}
+
+std::string ExplorationLoop::limitReached(bool between_steps)
+{
+  if (listener_)
+  {
+    std::string reason = listener_->stopReason();
+    if (!reason.empty()) return reason;
+  }
+  if (between_steps && status_.steps >= static_cast<std::size_t>(params_.max_steps))
+    return "max_steps";
+  status_.elapsed_s = mrpt::Clock::toDouble(clock_.now()) - mrpt::Clock::toDouble(t_start_);
+  if (status_.elapsed_s >= params_.max_sim_time_s) return "max_sim_time";
+  return {};
+}
+
+void ExplorationLoop::loop()
+{
+  scanAndIntegrate();
+  for (std::size_t step = 0;; step++)
+  {
+    if (auto reason = limitReached(true); !reason.empty())
+    {
+      status_.termination_reason = std::move(reason);
+      return;
+    }
+    const auto t0 = std::chrono::steady_clock::now();
+    const auto plan = exploration::plan(slam_.octomap().tree(), slam_.currentPose(), planner_,
+                                        blacklist_, step, swept_);
+    const double plan_s = secondsSince(t0);
+    status_.compute_s += plan_s;
+    status_.steps = step + 1;
+    if (listener_) listener_->onPlan(plan, plan_s * 1e3, status_);
+    status_.slam_ms_step = 0;
+    if (!plan.ok())
+    {
+      status_.termination_reason = exploration::toString(plan.done);
+      return;
+    }
+    // A frontier planned again and again without disappearing (an unseeable
+    // hole, a target the robot already stands on) is given up, and a step
+    // that does not move the robot counts as a failed drive.
+    const Eigen::Vector2d target =
+        plan.frontier ? plan.frontier->center : Eigen::Vector2d(plan.target.x(), plan.target.y());
+    registerPlan(target);
+    const double path_before = status_.path_length_m;
+    if (driveWaypoints(plan) && status_.path_length_m - path_before < params_.min_progress_m)
+      registerFailure(target);
+  }
+}
+
+void ExplorationLoop::scanAndIntegrate()
+{
+  const Scan scan = scans_.scan();
+  if (!scan.observations)
+    throw std::runtime_error("ExplorationLoop: the scan source delivered no observations");
+  if (listener_) listener_->onScan(scan);
+  const auto t0 = std::chrono::steady_clock::now();
+  const auto rep = slam_.processStop(*scan.observations, scan.odometry, scan.timestamp);
+  const double dt = secondsSince(t0);
+  status_.compute_s += dt;
+  status_.slam_ms_step += dt * 1e3;
+  pose_at_stop_ = rep.pose;
+  odo_at_stop_ = robot_.odometry();
+  last_estimate_ = rep.pose;
+  if (rep.loop.closed)
+  {
+    // The poses so far were corrected: the swept path follows them.
+    swept_.clear();
+    for (const auto& r : slam_.reports()) addSwept({r.pose.x(), r.pose.y()});
+    message("stop " + std::to_string(rep.index) + ": " + rep.loop.message +
+            (rep.loop.rebuilt ? mrpt::format("; maps rebuilt in %.0f ms", rep.loop.t_rebuild_ms)
+                              : std::string()));
+  }
+  addSwept({rep.pose.x(), rep.pose.y()});
+  if (listener_) listener_->onStop(scan, rep);
+}
+
+bool ExplorationLoop::driveWaypoints(const exploration::PlanResult& plan)
+{
+  const auto& wps = plan.waypoints;
+  for (std::size_t i = 0; i < wps.size(); i++)
+  {
+    const bool last = i + 1 == wps.size();
+    const auto r = driver_->driveTo(wps[i], last ? std::optional<double>(plan.target.phi())
+                                                 : std::nullopt);
+    scanAndIntegrate();
+    if (!r.reached())
+    {
+      status_.failed_drives++;
+      message("waypoint " + std::to_string(i + 1) + "/" + std::to_string(wps.size()) + " (" +
+              mrpt::format("%.2f, %.2f", wps[i].x(), wps[i].y()) +
+              "): " + navigation::toString(r.outcome) + ": " + r.message + "; replanning");
+      registerFailure(plan.frontier ? plan.frontier->center : wps.back());
+      return false;
+    }
+  }
+  return true;
+}
+
+void ExplorationLoop::registerFailure(const Eigen::Vector2d& target)
+{
+  const double radius = planner_.sampling.blacklist_radius_m;
+  auto it = std::find_if(failures_.begin(), failures_.end(),
+                         [&](const auto& f) { return (f.first - target).norm() <= radius; });
+  if (it == failures_.end())
+  {
+    failures_.emplace_back(target, 0);
+    it = std::prev(failures_.end());
+  }
+  if (++it->second >= params_.max_failures_per_target)
+  {
+    blacklist_.push_back(target);
+    status_.blacklisted = blacklist_.size();
+    message("target " + mrpt::format("(%.2f, %.2f)", target.x(), target.y()) + " failed " +
+            std::to_string(it->second) + " times: blacklisted");
+  }
+}
+
+void ExplorationLoop::registerPlan(const Eigen::Vector2d& target)
+{
+  if (params_.max_plans_per_target <= 0) return;
+  const double radius = planner_.sampling.blacklist_radius_m;
+  auto it = std::find_if(plans_.begin(), plans_.end(),
+                         [&](const auto& f) { return (f.first - target).norm() <= radius; });
+  if (it == plans_.end())
+  {
+    plans_.emplace_back(target, 0);
+    it = std::prev(plans_.end());
+  }
+  if (++it->second >= params_.max_plans_per_target)
+  {
+    blacklist_.push_back(target);
+    status_.blacklisted = blacklist_.size();
+    it->second = std::numeric_limits<int>::min();  // once
+    message("target " + mrpt::format("(%.2f, %.2f)", target.x(), target.y()) + " planned " +
+            std::to_string(params_.max_plans_per_target) +
+            " times without being explored: blacklisted");
+  }
+}
+
+void ExplorationLoop::addSwept(const Eigen::Vector2d& e)
+{
+  // The swept path in the pose estimate, 5 cm apart and continuous across
+  // the jump of a SLAM correction at a stop (the body's true path is
+  // continuous; either side of the jump is within the pose error).
+  if (swept_.empty())
+  {
+    swept_.push_back(e);
+    return;
+  }
+  const double d = (e - swept_.back()).norm();
+  if (d < 0.05) return;
+  const Eigen::Vector2d from = swept_.back();
+  const int n = static_cast<int>(std::ceil(d / 0.05));
+  for (int k = 1; k <= n; ++k) swept_.push_back(from + (e - from) * (double(k) / n));
+}
+
+void ExplorationLoop::onRobotStep()
+{
+  const auto est = poseEstimate();  // the estimate the navigator drives by
+  addSwept({est.x(), est.y()});
+  status_.path_length_m += std::hypot(est.x() - last_estimate_.x(), est.y() - last_estimate_.y());
+  last_estimate_ = est;
+  if (listener_) listener_->onRobotStep();
+  // The limits hold inside a drive too (a drive may last minutes).
+  if (auto reason = limitReached(false); !reason.empty()) throw RunStopped{std::move(reason)};
+}
+
+void ExplorationLoop::message(const std::string& line)
+{
+  if (listener_) listener_->onMessage(line);
+}
+
+}  // namespace voxplore::mission

@@ -1,0 +1,409 @@
+// mission::ExplorationLoop on a second, minimal robot that has nothing to do
+// with libs/sim (this test links voxplore::mission only): a circular
+// holonomic robot in a room of axis-aligned boxes, with 8 depth cameras
+// ray-cast analytically here, a 3-layer obstacle fan for the navigator and
+// MRPT's simulated clock. It is what a user writes to plug in a robot
+// (README "Plugging in a robot"), cut down to the geometry of one room.
+#include <gtest/gtest.h>
+#include <mrpt/config/CConfigFile.h>
+#include <mrpt/obs/CObservation3DRangeScan.h>
+#include <mrpt/obs/CObservationOdometry.h>
+#include <voxplore/common/camera_mounts.h>
+#include <voxplore/common/config.h>
+#include <voxplore/exploration/stages.h>
+#include <voxplore/mission/ExplorationLoop.h>
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <iostream>
+#include <limits>
+#include <stdexcept>
+#include <vector>
+
+namespace
+{
+using namespace voxplore;
+
+/// An axis-aligned solid box [m].
+struct Box
+{
+  Eigen::Vector3d lo, hi;
+};
+
+/// The world: a 10 x 4 m room split by a wall at x = 5 with a 1.2 m gap at
+/// the top (y 2.8..4), and a 0.6 m cube in the right half.
+std::vector<Box> twoRooms()
+{
+  const double h = 2.2;
+  return {
+      {{-0.2, -0.2, 0}, {0.0, 4.2, h}},    // west wall
+      {{10.0, -0.2, 0}, {10.2, 4.2, h}},   // east wall
+      {{-0.2, -0.2, 0}, {10.2, 0.0, h}},   // south wall
+      {{-0.2, 4.0, 0}, {10.2, 4.2, h}},    // north wall
+      {{4.9, 0.0, 0}, {5.1, 2.8, h}},      // partition, gap y 2.8..4
+      {{7.0, 1.0, 0}, {7.6, 1.6, 0.6}},    // a crate
+  };
+}
+
+/// Ray parameter of the first hit of o + t d (t >= 0) with the boxes and the
+/// floor z = 0; infinity when nothing is hit.
+double castRay(const std::vector<Box>& boxes, const Eigen::Vector3d& o, const Eigen::Vector3d& d)
+{
+  double best = std::numeric_limits<double>::infinity();
+  if (d.z() < 0) best = -o.z() / d.z();
+  for (const auto& b : boxes)
+  {
+    double t0 = 0, t1 = best;
+    bool hit = true;
+    for (int k = 0; k < 3 && hit; k++)
+    {
+      if (std::abs(d[k]) < 1e-12)
+      {
+        hit = o[k] >= b.lo[k] && o[k] <= b.hi[k];
+        continue;
+      }
+      double ta = (b.lo[k] - o[k]) / d[k], tb = (b.hi[k] - o[k]) / d[k];
+      if (ta > tb) std::swap(ta, tb);
+      t0 = std::max(t0, ta);
+      t1 = std::min(t1, tb);
+      hit = t0 <= t1;
+    }
+    if (hit) best = std::min(best, t0);
+  }
+  return best;
+}
+
+/// Distance from a point to a box in the plane (0 inside).
+double planarDistance(const Box& b, double x, double y)
+{
+  const double dx = std::max({b.lo.x() - x, 0.0, x - b.hi.x()});
+  const double dy = std::max({b.lo.y() - y, 0.0, y - b.hi.y()});
+  return std::hypot(dx, dy);
+}
+
+/// A holonomic disc robot with perfect odometry (own frame = the world),
+/// driving on MRPT's simulated clock. Refuses (and counts) a step that would
+/// bring the disc closer than its radius to a box.
+class DiscRobot : public navigation::RobotInterface, public mission::Clock
+{
+ public:
+  DiscRobot(std::vector<Box> world, mrpt::poses::CPose2D start, double radius_m)
+      : world_(std::move(world)),
+        pose_(start),
+        radius_m_(radius_m),
+        previous_clock_(mrpt::Clock::getActiveClock())
+  {
+    mrpt::Clock::setSimulatedTime(now_);
+    mrpt::Clock::setActiveClock(mrpt::Clock::Simulated);
+  }
+  ~DiscRobot() override { mrpt::Clock::setActiveClock(previous_clock_); }
+
+  void setVelocity(double vx, double vy, double w) override
+  {
+    const double v = std::hypot(vx, vy);
+    const double s = v > kMaxV ? kMaxV / v : 1.0;
+    cmd_ = {vx * s, vy * s, std::clamp(w, -kMaxW, kMaxW)};
+  }
+  void stop() override { cmd_ = {0, 0, 0}; }
+  mrpt::poses::CPose2D pose() const override
+  {
+    ADD_FAILURE() << "the loop must drive by its own estimate, not RobotInterface::pose()";
+    return pose_;
+  }
+  mrpt::poses::CPose2D odometry() const override { return pose_; }
+  mrpt::math::TTwist2D velocity() const override { return cmd_; }
+  bool obstacles(mrpt::maps::CSimplePointsMap& out) override
+  {
+    out.clear();
+    for (const double z : {0.1, 0.3, 0.5})
+      for (int i = 0; i < 720; i++)
+      {
+        const double a = i * M_PI / 360.0;
+        const Eigen::Vector3d d(std::cos(pose_.phi() + a), std::sin(pose_.phi() + a), 0);
+        const double t = castRay(world_, {pose_.x(), pose_.y(), z}, d);
+        if (t <= 6.0) out.insertPoint(t * std::cos(a), t * std::sin(a), z);
+      }
+    return true;
+  }
+  mrpt::Clock::time_point now() const override { return now_; }
+  void step(double dt_s) override
+  {
+    const int n = std::max(1, static_cast<int>(std::lround(dt_s / 0.01)));
+    for (int k = 0; k < n; k++)
+    {
+      const double h = dt_s / n;
+      const double c = std::cos(pose_.phi()), s = std::sin(pose_.phi());
+      const mrpt::poses::CPose2D next(pose_.x() + (c * cmd_.vx - s * cmd_.vy) * h,
+                                      pose_.y() + (s * cmd_.vx + c * cmd_.vy) * h,
+                                      pose_.phi() + cmd_.omega * h);
+      if (clearance(next.x(), next.y()) < radius_m_)
+        collisions_++;
+      else
+        pose_ = next;
+      min_clearance_m_ = std::min(min_clearance_m_, clearance(pose_.x(), pose_.y()) - radius_m_);
+      max_x_ = std::max(max_x_, pose_.x());
+    }
+    now_ += std::chrono::duration_cast<mrpt::Clock::duration>(std::chrono::duration<double>(dt_s));
+    mrpt::Clock::setSimulatedTime(now_);
+  }
+  std::optional<std::size_t> collisionCount() const override { return collisions_; }
+
+  const mrpt::poses::CPose2D& truePose() const { return pose_; }
+  const std::vector<Box>& world() const { return world_; }
+  double minClearance() const { return min_clearance_m_; }
+  double maxX() const { return max_x_; }
+  /// Scans take a sensor period of standing still.
+  void advance(double dt_s)
+  {
+    now_ += std::chrono::duration_cast<mrpt::Clock::duration>(std::chrono::duration<double>(dt_s));
+    mrpt::Clock::setSimulatedTime(now_);
+  }
+
+ private:
+  double clearance(double x, double y) const
+  {
+    double d = std::numeric_limits<double>::infinity();
+    for (const auto& b : world_) d = std::min(d, planarDistance(b, x, y));
+    return d;
+  }
+  static constexpr double kMaxV = 0.5, kMaxW = M_PI / 4;
+  std::vector<Box> world_;
+  mrpt::poses::CPose2D pose_;
+  double radius_m_;
+  mrpt::math::TTwist2D cmd_{0, 0, 0};
+  mrpt::Clock::time_point now_ = mrpt::Clock::fromDouble(1.7e9);
+  mrpt::Clock::Source previous_clock_;
+  std::size_t collisions_ = 0;
+  double min_clearance_m_ = std::numeric_limits<double>::infinity();
+  double max_x_ = -std::numeric_limits<double>::infinity();
+};
+
+/// 8 noise-free 64 x 48 depth cameras (40 x 30 deg) on the thesis' ring,
+/// rendered by castRay at the robot's true pose.
+class BoxCameras : public mission::ScanSource
+{
+ public:
+  BoxCameras(DiscRobot& robot, std::vector<mrpt::poses::CPose3D> mounts)
+      : robot_(robot), mounts_(std::move(mounts))
+  {
+    cam_.ncols = kW;
+    cam_.nrows = kH;
+    const double fx = 0.5 * kW / std::tan(0.5 * mrpt::DEG2RAD(40.0));
+    const double fy = 0.5 * kH / std::tan(0.5 * mrpt::DEG2RAD(30.0));
+    cam_.setIntrinsicParamsFromValues(fx, fy, 0.5 * (kW - 1), 0.5 * (kH - 1));
+  }
+
+  mission::Scan scan() override
+  {
+    if (fail_at_scan_ && scans_ == *fail_at_scan_)
+      throw std::runtime_error("BoxCameras: camera bus timeout at scan " + std::to_string(scans_));
+    scans_++;
+    robot_.advance(0.05);
+    mission::Scan s;
+    s.timestamp = robot_.now();
+    s.odometry = robot_.odometry();
+    s.observations = mrpt::obs::CSensoryFrame::Create();
+    const mrpt::poses::CPose3D T_world_robot(robot_.truePose());
+    for (std::size_t c = 0; c < mounts_.size(); c++)
+    {
+      auto obs = mrpt::obs::CObservation3DRangeScan::Create();
+      obs->sensorLabel = "CAM" + std::to_string(c);
+      obs->timestamp = s.timestamp;
+      obs->hasRangeImage = true;
+      obs->range_is_depth = true;
+      obs->rangeUnits = 0.001f;
+      obs->rangeImage_setSize(kH, kW);
+      obs->cameraParams = cam_;
+      obs->cameraParamsIntensity = cam_;
+      obs->maxRange = 7.0f;
+      obs->stdError = 0.01f;
+      obs->sensorPose = mounts_[c];
+      const mrpt::poses::CPose3D T_world_cam = T_world_robot + mounts_[c];
+      const auto R = T_world_cam.getRotationMatrix().asEigen();
+      const Eigen::Vector3d o(T_world_cam.x(), T_world_cam.y(), T_world_cam.z());
+      for (int v = 0; v < kH; v++)
+        for (int u = 0; u < kW; u++)
+        {
+          // MRPT's camera frame: +X depth, +Y left, +Z up; x = 1 makes t the depth.
+          const Eigen::Vector3d d_cam(1.0, (cam_.cx() - u) / cam_.fx(), (cam_.cy() - v) / cam_.fy());
+          const double depth = castRay(robot_.world(), o, R * d_cam);
+          const double range = depth * d_cam.norm();
+          obs->rangeImage(v, u) = range >= 0.12 && range <= 7.0
+                                      ? static_cast<uint16_t>(std::lround(depth / 0.001))
+                                      : uint16_t(0);
+        }
+      s.observations->insert(obs);
+    }
+    auto odo = mrpt::obs::CObservationOdometry::Create();
+    odo->sensorLabel = "ODOMETRY";
+    odo->timestamp = s.timestamp;
+    odo->odometry = s.odometry;
+    s.observations->insert(odo);
+    return s;
+  }
+
+  std::optional<std::size_t> fail_at_scan_;  ///< throw instead of scanning (0-based)
+
+ private:
+  static constexpr int kW = 64, kH = 48;
+  DiscRobot& robot_;
+  std::vector<mrpt::poses::CPose3D> mounts_;
+  mrpt::img::TCamera cam_;
+  std::size_t scans_ = 0;
+};
+
+/// Counts events; stops the run after `stop_after_robot_steps` robot steps.
+struct CountingListener : mission::Listener
+{
+  std::size_t scans = 0, stops = 0, plans = 0, robot_steps = 0;
+  std::optional<std::size_t> stop_after_robot_steps;
+  void onScan(const mission::Scan&) override { scans++; }
+  void onStop(const mission::Scan&, const mapping::StopReport&) override { stops++; }
+  void onPlan(const exploration::PlanResult&, double, const mission::ExplorationStatus&) override
+  {
+    plans++;
+  }
+  void onRobotStep() override { robot_steps++; }
+  std::string stopReason() override
+  {
+    return stop_after_robot_steps && robot_steps >= *stop_after_robot_steps ? "interrupted"
+                                                                           : std::string();
+  }
+};
+
+/// The compact robot's parameters from config/explore.ini, as voxplore-explore loads them.
+struct RobotSetup
+{
+  static constexpr double kLength = 0.50, kWidth = 0.36;
+  mapping::SlamIcpParams slam;
+  exploration::PlannerParams planner;
+  navigation::DriverParams driver;
+  mission::ExplorationLoopParams loop;
+  std::vector<mrpt::poses::CPose3D> mounts;
+  double radius_m = 0;
+
+  RobotSetup()
+  {
+    mrpt::config::CConfigFile ini(std::string(VOXPLORE_SOURCE_DIR) + "/config/explore.ini");
+    mounts = common::cameraRing(kLength, kWidth, 0.60, mrpt::DEG2RAD(30.0));
+    radius_m = std::hypot(kLength / 2, kWidth / 2);
+    slam.load(ini);
+    planner.collision.r_coll_m = radius_m;
+    planner.load(ini);
+    planner.rating.mounts = mounts;
+    driver = navigation::DriverParams::forFootprint(kLength, kWidth);
+    common::loadChecked(driver, ini, "navigation");
+    loop.loadFromConfigFile(ini, "explore");  // [explore] also holds the simulator's keys
+    loop.max_steps = 40;
+  }
+};
+
+TEST(ExplorationLoop, ExploresTwoRoomsWithARobotOutsideTheSimulator)
+{
+  RobotSetup setup;
+  DiscRobot robot(twoRooms(), mrpt::poses::CPose2D(2.0, 2.0, 0.0), setup.radius_m);
+  BoxCameras cameras(robot, setup.mounts);
+  CountingListener events;
+  mission::ExplorationLoop loop(robot, cameras, robot, setup.slam, setup.planner, setup.driver,
+                                setup.loop, &events);
+  const auto& status = loop.run();
+
+  // It ends by itself, having driven through the gap into the right room.
+  EXPECT_TRUE(status.termination_reason == "no frontier" ||
+              status.termination_reason == "no reachable frontier")
+      << status.termination_reason;
+  EXPECT_GE(status.steps, 2u);
+  EXPECT_GT(robot.maxX(), 5.5) << "never entered the right room";
+  EXPECT_EQ(robot.collisionCount().value(), 0u);
+  EXPECT_GE(robot.minClearance(), 0.02);
+  EXPECT_EQ(events.plans, status.steps);
+  EXPECT_EQ(events.stops, loop.slam().numStops());
+  EXPECT_EQ(events.scans, events.stops);
+  EXPECT_GT(events.robot_steps, 0u);
+  EXPECT_GT(status.path_length_m, 3.0);
+
+  // SLAM (map frame = the start pose) agrees with the true pose at the end.
+  const mrpt::poses::CPose2D start(2.0, 2.0, 0.0);
+  const auto truth = robot.truePose() - start;
+  const auto est = loop.slam().currentPose();
+  EXPECT_LT(std::hypot(est.x() - truth.x(), est.y() - truth.y()), 0.05);
+  EXPECT_LT(std::abs(mrpt::math::wrapToPi(est.phi() - truth.phi())), mrpt::DEG2RAD(1.0));
+
+  // The 2D grid knows both rooms' floor (cells 0.4 m clear of any wall) as free.
+  const auto ground = exploration::projectToGround(loop.slam().octomap().tree(), est,
+                                                   setup.planner.projection, loop.sweptPath());
+  std::size_t floor = 0, free = 0;
+  for (double x = 0.2; x < 10.0; x += 0.1)
+    for (double y = 0.2; y < 4.0; y += 0.1)
+    {
+      bool clear = true;
+      for (const auto& b : robot.world()) clear = clear && planarDistance(b, x, y) >= 0.4;
+      if (!clear) continue;
+      floor++;
+      double mx = 0, my = 0;
+      (-start).composePoint(x, y, mx, my);
+      exploration::Cell c;
+      free += exploration::cellOf(ground.state, {mx, my}, c) &&
+              *ground.state.cellByIndex(c.cx, c.cy) == exploration::GroundState::Free;
+    }
+  EXPECT_GT(static_cast<double>(free) / floor, 0.95) << free << " of " << floor << " floor cells";
+  std::cout << "explored: " << status.termination_reason << " after " << status.steps
+            << " steps, " << loop.slam().numStops() << " stops, path " << status.path_length_m
+            << " m, floor known free " << static_cast<double>(free) / floor
+            << ", min clearance " << robot.minClearance() << " m, final pose error "
+            << std::hypot(est.x() - truth.x(), est.y() - truth.y()) << " m" << std::endl;
+}
+
+TEST(ExplorationLoop, AListenerStopsTheRunMidDriveWithTheRobotStanding)
+{
+  RobotSetup setup;
+  DiscRobot robot(twoRooms(), mrpt::poses::CPose2D(2.0, 2.0, 0.0), setup.radius_m);
+  BoxCameras cameras(robot, setup.mounts);
+  CountingListener events;
+  events.stop_after_robot_steps = 15;
+  mission::ExplorationLoop loop(robot, cameras, robot, setup.slam, setup.planner, setup.driver,
+                                setup.loop, &events);
+  const auto& status = loop.run();
+  EXPECT_EQ(status.termination_reason, "interrupted");
+  EXPECT_EQ(events.robot_steps, 15u);
+  const auto v = robot.velocity();
+  EXPECT_EQ(std::hypot(v.vx, v.vy) + std::abs(v.omega), 0.0) << "the robot was left moving";
+}
+
+TEST(ExplorationLoop, TheTimeLimitHoldsOnTheGivenClock)
+{
+  RobotSetup setup;
+  setup.loop.max_sim_time_s = 20.0;
+  DiscRobot robot(twoRooms(), mrpt::poses::CPose2D(2.0, 2.0, 0.0), setup.radius_m);
+  BoxCameras cameras(robot, setup.mounts);
+  mission::ExplorationLoop loop(robot, cameras, robot, setup.slam, setup.planner, setup.driver,
+                                setup.loop);
+  const auto& status = loop.run();
+  EXPECT_EQ(status.termination_reason, "max_sim_time");
+  EXPECT_GE(status.elapsed_s, 20.0);
+  EXPECT_LT(status.elapsed_s, 20.5);  // within a robot step or a scan of the limit
+}
+
+TEST(ExplorationLoop, AScanSourceErrorPropagatesAndTheStopsSoFarStay)
+{
+  RobotSetup setup;
+  DiscRobot robot(twoRooms(), mrpt::poses::CPose2D(2.0, 2.0, 0.0), setup.radius_m);
+  BoxCameras cameras(robot, setup.mounts);
+  cameras.fail_at_scan_ = 2;
+  mission::ExplorationLoop loop(robot, cameras, robot, setup.slam, setup.planner, setup.driver,
+                                setup.loop);
+  try
+  {
+    loop.run();
+    FAIL() << "expected the scan source's error";
+  }
+  catch (const std::runtime_error& e)
+  {
+    EXPECT_NE(std::string(e.what()).find("camera bus timeout at scan 2"), std::string::npos)
+        << e.what();
+  }
+  EXPECT_EQ(loop.slam().numStops(), 2u);
+}
+
+}  // namespace
