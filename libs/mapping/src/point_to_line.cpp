@@ -111,7 +111,8 @@ Accum linearise(
 
 RefineResult refinePointToLine(
     const mrpt::maps::CPointsMap& ref, const mrpt::maps::CPointsMap& cloud,
-    const mrpt::poses::CPose2D& start, double radius_start_m, const IcpParams& p)
+    const mrpt::poses::CPose2D& start, double radius_start_m, const IcpParams& p,
+    const mrpt::poses::CPose2D& prior)
 {
   RefineResult res;
   res.pose = start;
@@ -133,6 +134,14 @@ RefineResult refinePointToLine(
     res.degenerate = p.degeneracy_check && res.info_ratio < p.degeneracy_ratio;
     res.degenerate_dir = es.eigenvectors().col(0);
     Eigen::Matrix3d H = a.H;
+    if (p.odometry_prior_pairs > 0)
+    {
+      // The prediction's translation as a prior: residual t - t_prior, J = I.
+      H(0, 0) += p.odometry_prior_pairs;
+      H(1, 1) += p.odometry_prior_pairs;
+      a.b.x() += p.odometry_prior_pairs * (res.pose.x() - prior.x());
+      a.b.y() += p.odometry_prior_pairs * (res.pose.y() - prior.y());
+    }
     H.diagonal().array() += 1e-9 * (H.trace() + 1.0);
     Eigen::Vector3d delta = -H.ldlt().solve(a.b);
     if (res.degenerate)

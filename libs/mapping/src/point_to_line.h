@@ -53,9 +53,12 @@ struct RefineResult
 /// @brief Point-to-line Gauss-Newton from `start`, radius annealed from
 ///        `radius_start_m` down to params.d_max_final_m. Along a translation
 ///        direction with information below degeneracy_ratio (when enabled)
-///        no update is made (solution remapping).
+///        no update is made (solution remapping). With
+///        params.odometry_prior_pairs > 0 the translation of `prior` (the
+///        odometry prediction) is a prior of that weight.
 RefineResult refinePointToLine(
     const mrpt::maps::CPointsMap& ref, const mrpt::maps::CPointsMap& cloud,
-    const mrpt::poses::CPose2D& start, double radius_start_m, const IcpParams& params);
+    const mrpt::poses::CPose2D& start, double radius_start_m, const IcpParams& params,
+    const mrpt::poses::CPose2D& prior);
 
 }  // namespace voxplore::mapping::detail

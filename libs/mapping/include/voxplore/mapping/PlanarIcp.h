@@ -29,6 +29,11 @@ struct IcpParams : public mrpt::config::CLoadableOptions
   double max_correction_yaw = mrpt::DEG2RAD(10.0);  ///< ... and this [rad] (ini: deg)
   bool degeneracy_check = true;    ///< detect directions the scene does not constrain
   double degeneracy_ratio = 0.03;  ///< smallest/largest translational information eigenvalue below this = degenerate
+  /// Stage 2 holds the odometry prediction's translation with this weight,
+  /// counted in point-to-line pairs along each axis (the cloud has at most
+  /// max_points): where the walls say little (along a corridor) the
+  /// prediction keeps the position, elsewhere the scene dominates. 0 = off.
+  double odometry_prior_pairs = 0.0;
   double normal_radius_m = 0.25;   ///< neighbourhood of the metaview line fits (normals, information matrix) [m]
   int min_points = 50;             ///< fewer cloud points: no ICP (keep odometry, flag)
   /// Stage 2 that has not converged within max_iterations is accepted only
