@@ -234,16 +234,20 @@ bool ExplorationLoop::driveWaypoints(const exploration::PlanResult& plan)
   return true;
 }
 
-void ExplorationLoop::registerFailure(const Eigen::Vector2d& target)
+ExplorationLoop::TargetCounts::iterator ExplorationLoop::countFor(TargetCounts& counts,
+                                                                   const Eigen::Vector2d& target)
 {
   const double radius = planner_.sampling.blacklist_radius_m;
-  auto it = std::find_if(failures_.begin(), failures_.end(),
+  auto it = std::find_if(counts.begin(), counts.end(),
                          [&](const auto& f) { return (f.first - target).norm() <= radius; });
-  if (it == failures_.end())
-  {
-    failures_.emplace_back(target, 0);
-    it = std::prev(failures_.end());
-  }
+  if (it != counts.end()) return it;
+  counts.emplace_back(target, 0);
+  return std::prev(counts.end());
+}
+
+void ExplorationLoop::registerFailure(const Eigen::Vector2d& target)
+{
+  auto it = countFor(failures_, target);
   if (++it->second >= params_.max_failures_per_target)
   {
     blacklist_.push_back(target);
@@ -256,14 +260,7 @@ void ExplorationLoop::registerFailure(const Eigen::Vector2d& target)
 void ExplorationLoop::registerPlan(const Eigen::Vector2d& target)
 {
   if (params_.max_plans_per_target <= 0) return;
-  const double radius = planner_.sampling.blacklist_radius_m;
-  auto it = std::find_if(plans_.begin(), plans_.end(),
-                         [&](const auto& f) { return (f.first - target).norm() <= radius; });
-  if (it == plans_.end())
-  {
-    plans_.emplace_back(target, 0);
-    it = std::prev(plans_.end());
-  }
+  auto it = countFor(plans_, target);
   if (++it->second >= params_.max_plans_per_target)
   {
     blacklist_.push_back(target);

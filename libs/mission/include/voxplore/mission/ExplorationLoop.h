@@ -185,6 +185,10 @@ class ExplorationLoop
   void scanAndIntegrate();
   /// @return false when a drive failed (the caller replans)
   bool driveWaypoints(const exploration::PlanResult& plan);
+  /// Frontier centre -> count, one entry per blacklist_radius_m.
+  using TargetCounts = std::vector<std::pair<Eigen::Vector2d, int>>;
+  /// The entry of `counts` within blacklist_radius_m of `target` (added at 0).
+  TargetCounts::iterator countFor(TargetCounts& counts, const Eigen::Vector2d& target);
   void registerFailure(const Eigen::Vector2d& target);
   /// Counts a plan for the frontier at `target`; blacklists it after max_plans_per_target.
   void registerPlan(const Eigen::Vector2d& target);
@@ -207,8 +211,8 @@ class ExplorationLoop
   mrpt::Clock::time_point t_start_;
   mrpt::poses::CPose2D pose_at_stop_, odo_at_stop_, last_estimate_;
   std::vector<Eigen::Vector2d> blacklist_;
-  std::vector<std::pair<Eigen::Vector2d, int>> failures_;  ///< frontier centre -> failed drives
-  std::vector<std::pair<Eigen::Vector2d, int>> plans_;     ///< frontier centre -> plans so far
+  TargetCounts failures_;  ///< failed drives per frontier
+  TargetCounts plans_;     ///< plans so far per frontier
   std::vector<Eigen::Vector2d> swept_;
   ExplorationStatus status_;
 };
