@@ -3,7 +3,11 @@
 // the simulated omniRob / compact robot through dlr_test_room.world.
 #include <gtest/gtest.h>
 #include <mrpt/config/CConfigFileMemory.h>
+#include <mrpt/core/format.h>
+#include <mrpt/io/CFileGZInputStream.h>
 #include <mrpt/math/wrap2pi.h>
+#include <mrpt/nav/reactive/CLogFileRecord.h>
+#include <mrpt/serialization/CArchive.h>
 #include <mrpt/system/CTicTac.h>
 #include <voxplore/apps/SimRobot.h>
 #include <voxplore/common/config.h>
@@ -12,11 +16,13 @@
 #include <voxplore/sim/SimConfig.h>
 #include <voxplore/sim/world_loading.h>
 
+#include <algorithm>
 #include <cmath>
+#include <filesystem>
 #include <fstream>
-#include <optional>
 #include <iostream>
 #include <memory>
+#include <optional>
 #include <vector>
 
 #include "test_worlds.h"
@@ -546,4 +552,119 @@ TEST(StopAndScanDriver, EscapeBacksOffFromAWallAtTheCircle)
   const auto again = rig.driver->escape();
   EXPECT_EQ(again.outcome, DriveOutcome::Reached);
   EXPECT_LT(again.distance_m, 1e-9);
+}
+
+// ------------------------------------------- navigation logs (issue 14)
+
+namespace
+{
+/// Reads a .reactivenavlog the way navlog-viewer does: CSerializable objects
+/// from a gzip stream until EOF, keeping the CLogFileRecord ones.
+std::vector<mrpt::nav::CLogFileRecord::Ptr> readNavlog(const std::string& path)
+{
+  std::vector<mrpt::nav::CLogFileRecord::Ptr> out;
+  mrpt::io::CFileGZInputStream f(path);
+  auto arch = mrpt::serialization::archiveFrom(f);
+  for (;;)
+  {
+    mrpt::serialization::CSerializable::Ptr obj;
+    try
+    {
+      obj = arch.ReadObject();
+    }
+    catch (const mrpt::serialization::CExceptionEOF&)
+    {
+      break;
+    }
+    if (auto rec = std::dynamic_pointer_cast<mrpt::nav::CLogFileRecord>(obj)) out.push_back(rec);
+  }
+  return out;
+}
+
+double distanceToSegment(const mrpt::math::TPose2D& p, const Vector2d& a, const Vector2d& b)
+{
+  const Vector2d q(p.x, p.y), ab = b - a;
+  const double t = std::clamp((q - a).dot(ab) / ab.squaredNorm(), 0.0, 1.0);
+  return (q - (a + t * ab)).norm();
+}
+}  // namespace
+
+TEST(StopAndScanDriver, NavlogDirWritesOneReadableReactivenavlogPerDrive)
+{
+  namespace fs = std::filesystem;
+  const auto dir = test::tempPath("navlogs");
+  fs::remove_all(dir);
+  SimRig rig("omnirob");
+  auto p = rig.driver->params();
+  p.navlog_dir = dir + "/sub";  // created by the driver
+  rig.driver = std::make_unique<StopAndScanDriver>(*rig.robot, p);
+  const std::vector<Vector2d> legs = {{2.0, 4.0}, {2.0, 3.0}, {2.6, 2.2}};  // start, 2 drives
+  for (std::size_t i = 1; i < legs.size(); i++)
+    ASSERT_EQ(rig.driver->driveTo(legs[i], std::nullopt).outcome, DriveOutcome::Reached);
+  // A second driver (a new run) into the same directory does not overwrite.
+  rig.driver = std::make_unique<StopAndScanDriver>(*rig.robot, p);
+  ASSERT_EQ(rig.driver->driveTo(legs[1], std::nullopt).outcome, DriveOutcome::Reached);
+  rig.driver.reset();
+
+  const std::vector<std::pair<Vector2d, Vector2d>> drives = {
+      {legs[0], legs[1]}, {legs[1], legs[2]}, {legs[2], legs[1]}};
+  for (std::size_t i = 0; i < drives.size(); i++)
+  {
+    const std::string file = mrpt::format("%s/sub/log_%03u.reactivenavlog", dir.c_str(),
+                                          static_cast<unsigned>(i));  // MRPT counts from 000
+    ASSERT_TRUE(fs::exists(file)) << file;
+    const auto recs = readNavlog(file);
+    ASSERT_GT(recs.size(), 5u) << file;
+    // The first record carries the PTG (navlog-viewer rebuilds the paths from it).
+    ASSERT_FALSE(recs.front()->infoPerPTG.empty());
+    ASSERT_TRUE(recs.front()->infoPerPTG[0].ptg) << file;
+    EXPECT_EQ(recs.front()->infoPerPTG[0].ptg->GetRuntimeClass()->className,
+              std::string("mrpt::nav::CPTG_Holo_Blend"));
+    const auto& [from, to] = drives[i];
+    double worst = 0;
+    for (const auto& r : recs)
+      worst = std::max(worst, distanceToSegment(r->robotPoseLocalization, from, to));
+    EXPECT_LT(worst, 0.3) << file << ": logged poses off the drive's path";
+    const auto& a = recs.front()->robotPoseLocalization;
+    const auto& b = recs.back()->robotPoseLocalization;
+    EXPECT_LT(std::hypot(a.x - from.x(), a.y - from.y()), 0.1) << file;
+    EXPECT_LT(std::hypot(b.x - to.x(), b.y - to.y()), 0.2) << file;
+    EXPECT_GT(recs.front()->WS_Obstacles.size(), 0u) << "no obstacles logged";
+    EXPECT_NEAR(recs.front()->robotShape_radius, p.robotRadius(), 1e-6);
+    std::cout << "[ navlog ] " << file << ": " << recs.size() << " records, " << fs::file_size(file)
+              << " bytes, worst distance to the path " << worst << " m" << std::endl;
+  }
+  EXPECT_FALSE(fs::exists(dir + "/sub/log_003.reactivenavlog"));
+}
+
+TEST(StopAndScanDriver, NavlogDirThatCannotBeCreatedNamesTheKey)
+{
+  IdealRobot robot;
+  DriverParams p;
+  p.navlog_dir = "/proc/voxplore_no_navlogs_here";
+  try
+  {
+    StopAndScanDriver driver(robot, p);
+    ADD_FAILURE() << "expected an error";
+  }
+  catch (const std::exception& e)
+  {
+    const std::string msg = e.what();
+    EXPECT_NE(msg.find("navlog_dir"), std::string::npos) << msg;
+    EXPECT_NE(msg.find("/proc/voxplore_no_navlogs_here"), std::string::npos) << msg;
+  }
+  // A file where the directory should be is a configuration error naming the key.
+  const auto file = test::tempPath("navlog_is_a_file");
+  std::ofstream(file) << "x";
+  mrpt::config::CConfigFileMemory c("[navigation]\nnavlog_dir = " + file + "\n");
+  DriverParams q;
+  try
+  {
+    common::loadChecked(q, c, "navigation");
+    ADD_FAILURE() << "expected an error";
+  }
+  catch (const std::exception& e)
+  {
+    EXPECT_NE(std::string(e.what()).find("navlog_dir"), std::string::npos) << e.what();
+  }
 }

@@ -6,6 +6,7 @@
 #include <mrpt/maps/CSimplePointsMap.h>
 #include <mrpt/obs/CObservation3DRangeScan.h>
 #include <octomap/OcTree.h>
+#include <unistd.h>
 #include <voxplore/mapping/OctoMapLayer.h>
 #include <voxplore/sim/DepthCameraRig.h>
 #include <voxplore/sim/RayCaster.h>
@@ -16,6 +17,8 @@
 #include <filesystem>
 #include <fstream>
 #include <functional>
+#include <iostream>
+#include <iterator>
 #include <random>
 
 #include "test_worlds.h"
@@ -402,6 +405,60 @@ TEST(OctoMapLayer, WrittenBinaryLoadsInBt2vrmlAndOctomap)
   const std::string expected = "Finished writing " + std::to_string(occupied_leaves) + " voxels";
   EXPECT_NE(text.find(expected), std::string::npos) << "bt2vrml said:\n" << text;
   EXPECT_GT(std::filesystem::file_size(path + ".wrl"), occupied_leaves * 10);
+}
+
+TEST(OctoMapLayer, WriteBinaryIsSilentAndEqualsOctomapsOwnWriter)
+{
+  const RoomScans room;
+  OctoMapLayer layer;
+  layer.setStartBoxFree(room.stops.front().first);
+  for (int i = 0; i < 4; i++)
+    for (const auto& obs : room.stops.front().second)
+      layer.insertScan(*obs, room.stops.front().first);
+  const auto dir = std::filesystem::temp_directory_path() /
+                   ("voxplore_octomap_silent_" + std::to_string(::getpid()));
+  std::filesystem::remove_all(dir);
+  std::filesystem::create_directories(dir);
+  const std::string ours = (dir / "ours.bt").string(), stock = (dir / "stock.bt").string();
+
+  // CaptureStderr redirects file descriptor 2: it sees octomap's fprintf(stderr) too.
+  testing::internal::CaptureStderr();
+  layer.writeBinary(ours);
+  const std::string said = testing::internal::GetCapturedStderr();
+  EXPECT_EQ(said, "") << "writeBinary printed to stderr";
+
+  testing::internal::CaptureStderr();
+  ASSERT_TRUE(layer.tree().writeBinaryConst(stock));
+  const std::string stock_said = testing::internal::GetCapturedStderr();
+  // Octomap's own writer (what we replaced), for the record: " done." today.
+  std::cout << "octomap writeBinaryConst said: '" << stock_said << "'" << std::endl;
+
+  const auto bytes = [](const std::string& p)
+  {
+    std::ifstream f(p, std::ios::binary);
+    return std::string((std::istreambuf_iterator<char>(f)), std::istreambuf_iterator<char>());
+  };
+  EXPECT_GT(bytes(ours).size(), 1000u);
+  EXPECT_EQ(bytes(ours), bytes(stock)) << "not the bytes of OcTree::writeBinaryConst";
+
+  // Reads back through octomap's generic reader and its binary reader alike.
+  octomap::OcTree back(0.1);
+  ASSERT_TRUE(back.readBinary(ours));
+  octomap::OcTree expected(0.1);
+  ASSERT_TRUE(expected.readBinary(stock));
+  EXPECT_TRUE(back == expected);
+  EXPECT_EQ(back.getNumLeafNodes(), expected.getNumLeafNodes());
+  EXPECT_EQ(back.size(), layer.tree().size());
+  EXPECT_NEAR(back.getResolution(), layer.tree().getResolution(), 1e-12);
+  std::size_t checked = 0;
+  for (auto it = layer.tree().begin_leafs(); it != layer.tree().end_leafs(); ++it, ++checked)
+  {
+    const auto* n = back.search(it.getKey(), it.getDepth());
+    ASSERT_NE(n, nullptr);
+    EXPECT_EQ(back.isNodeOccupied(n), layer.tree().isNodeOccupied(*it));
+  }
+  EXPECT_EQ(checked, back.getNumLeafNodes());
+  std::filesystem::remove_all(dir);
 }
 
 // --------------------------------------------------------------- parameters

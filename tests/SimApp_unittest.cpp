@@ -1,13 +1,21 @@
 // mrpt-sim end to end: outputs, determinism, and errors for bad input.
+#include <fcntl.h>
 #include <gtest/gtest.h>
+#include <sys/wait.h>
+#include <unistd.h>
 #include <voxplore/apps/SimApp.h>
+#include <voxplore/apps/app_common.h>
 #include <voxplore/common/rawlog_io.h>
 #include <voxplore/common/trajectory_io.h>
 
+#include <chrono>
+#include <csignal>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <iterator>
+#include <thread>
+#include <vector>
 
 #include "test_worlds.h"
 
@@ -155,4 +163,102 @@ TEST(SimApp, CommandLineHelpAndErrors)
   const char* bad_world[] = {"mrpt-sim", "--world", "/nonexistent.world", "--waypoints", "/x",
                              "--out", "/tmp/x"};
   EXPECT_EQ(apps::SimApp{}.run(7, bad_world), 1);
+}
+
+// ------------------------------------------------ SIGINT (issue 14)
+
+namespace
+{
+std::size_t lineCount(const std::string& path)
+{
+  std::ifstream f(path);
+  std::size_t n = 0;
+  for (std::string line; std::getline(f, line);) n += !line.empty() && line[0] != '#';
+  return n;
+}
+
+std::size_t rawlogEntries(const std::string& path)
+{
+  std::size_t n = 0;
+  common::forEachRawlogEntry(path,
+                             [&](const common::RawlogEntry&)
+                             {
+                               n++;
+                               return true;
+                             });
+  return n;
+}
+}  // namespace
+
+TEST(SimApp, InterruptFlagEndsTheTourAfterTheCurrentStop)
+{
+  auto o = shortTour("sim_interrupt_flag", 1);
+  apps::requestInterrupt();
+  const auto s = apps::SimApp{}.execute(o);
+  apps::clearInterrupt();
+  EXPECT_TRUE(s.interrupted);
+  EXPECT_EQ(s.stops, 1u);  // the start scan only
+  EXPECT_EQ(rawlogEntries(o.out_dir + "/run.rawlog"), 1u);
+  EXPECT_EQ(common::readTum(o.out_dir + "/trajectory_gt.tum").size(), 1u);
+}
+
+TEST(SimApp, SigintStopsMrptSimWithAReadableRawlog)
+{
+  const std::string bin = std::string(VOXPLORE_BIN_DIR) + "/mrpt-sim";
+  if (!fs::exists(bin)) GTEST_SKIP() << "not built: " << bin;
+  // 200 legs of 1.2 m (600 stops): far longer than the test waits.
+  std::string legs;
+  for (int i = 0; i < 100; i++) legs += "2.0 2.8\n2.0 4.0\n";
+  const auto wps = writeFile("sigint_tour.txt", legs);
+  const auto out = tmp("sim_sigint");
+  fs::remove_all(out);
+  const auto log = tmp("sim_sigint.log");
+  const pid_t pid = fork();
+  ASSERT_GE(pid, 0);
+  if (pid == 0)
+  {
+    const int fd = ::open(log.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+    dup2(fd, 1);
+    dup2(fd, 2);
+    const std::string world = test::sourceDir() + "/simulated_worlds/dlr_test_room.world";
+    const std::string cfg = test::sourceDir() + "/config/sim.ini";
+    execl(bin.c_str(), bin.c_str(), "--world", world.c_str(), "--waypoints", wps.c_str(),
+          "--config", cfg.c_str(), "--out", out.c_str(), "--quiet", static_cast<char*>(nullptr));
+    _exit(127);
+  }
+  // Wait for 3 stops in the ground-truth trajectory (flushed after each stop).
+  const auto t0 = std::chrono::steady_clock::now();
+  int st = 0;
+  bool exited = false;
+  while (lineCount(out + "/trajectory_gt.tum") < 3 &&
+         std::chrono::steady_clock::now() - t0 < std::chrono::seconds(120))
+  {
+    if (waitpid(pid, &st, WNOHANG) == pid)
+    {
+      exited = true;
+      break;
+    }
+    std::this_thread::sleep_for(std::chrono::milliseconds(20));
+  }
+  ASSERT_FALSE(exited) << "mrpt-sim exited before the signal:\n" << readAll(log);
+  kill(pid, SIGINT);
+  while (waitpid(pid, &st, WNOHANG) != pid &&
+         std::chrono::steady_clock::now() - t0 < std::chrono::seconds(240))
+    std::this_thread::sleep_for(std::chrono::milliseconds(20));
+  if (waitpid(pid, &st, WNOHANG) == 0)  // still running: do not leak it
+  {
+    kill(pid, SIGKILL);
+    waitpid(pid, &st, 0);
+    FAIL() << "mrpt-sim did not stop after SIGINT:\n" << readAll(log);
+  }
+  const std::string text = readAll(log);
+  ASSERT_TRUE(WIFEXITED(st)) << "killed by signal " << WTERMSIG(st) << "\n" << text;
+  EXPECT_EQ(WEXITSTATUS(st), apps::kExitInterrupted) << text;
+  EXPECT_NE(text.find("mrpt-sim: interrupted after"), std::string::npos) << text;
+  const auto stops = common::readTum(out + "/trajectory_gt.tum").size();
+  EXPECT_GE(stops, 3u);
+  EXPECT_LT(stops, 100u) << "stopped early, not at the natural end";
+  EXPECT_EQ(rawlogEntries(out + "/run.rawlog"), stops);  // every stop, none half-written
+  EXPECT_EQ(common::readTum(out + "/trajectory_odo.tum").size(), stops);
+  EXPECT_TRUE(fs::is_regular_file(out + "/topview.png"));
 }

@@ -30,7 +30,9 @@ const char* kDescription =
     "8 x CObservation3DRangeScan + CObservationOdometry per stop), DIR/trajectory_gt.tum "
     "(ground truth at each scan), DIR/trajectory_odo.tum (odometry), DIR/topview.png and "
     "DIR/params.ini (parameters in force). Waypoints file: one 'x y [yaw_deg]' per line, "
-    "world metres, '#' comments.";
+    "world metres, '#' comments. Ctrl-C (SIGINT) or SIGTERM stops the tour after the current "
+    "stop, writes every output for the stops so far (the rawlog closed and readable) and exits "
+    "with 130; a second one kills at once.";
 
 sim::SimConfig loadConfig(const SimOptions& opts)
 {
@@ -80,7 +82,15 @@ int SimApp::run(int argc, const char* const* argv)
     if (robot.isSet()) o.robot = robot.getValue();
     o.no_noise = no_noise.getValue();
     o.quiet = quiet.getValue();
+    installInterruptHandler();
     const auto s = execute(o);
+    if (s.interrupted)
+    {
+      std::cerr << "mrpt-sim: interrupted after " << s.stops << " scan stops; " << o.out_dir
+                << "/run.rawlog and the trajectories hold those stops (exit " << kExitInterrupted
+                << ")" << std::endl;
+      return kExitInterrupted;
+    }
     std::cout << "mrpt-sim: " << s.stops << " scan stops, path " << s.path_length_m << " m, "
               << s.sim_time_s << " s simulated, " << s.collisions << " collisions, "
               << s.blocked_segments << " blocked segments -> " << o.out_dir << std::endl;
@@ -138,7 +148,8 @@ SimRunSummary SimApp::execute(const SimOptions& opts)
       [&](std::size_t done, std::size_t) {
         waypoints_done = done;
         progress.update(done);
-      });
+      },
+      [] { return interruptRequested(); });
   progress.finish();
 
   sim::writeTopView(simulator.world(), simulator.caster(),
@@ -151,6 +162,7 @@ SimRunSummary SimApp::execute(const SimOptions& opts)
   s.collisions = simulator.robot().collisions();
   s.path_length_m = tour.path_length_m;
   s.sim_time_s = simulator.simTime();
+  s.interrupted = tour.stopped_early;
   return s;
 }
 

@@ -5,6 +5,7 @@
 #include <voxplore/mapping/OctoMapLayer.h>
 
 #include <cmath>
+#include <fstream>
 #include <limits>
 #include <stdexcept>
 #include <tuple>
@@ -295,11 +296,26 @@ std::vector<Eigen::Vector3d> OctoMapLayer::occupiedVoxelCenters() const
 
 void OctoMapLayer::writeBinary(const std::string& path) const
 {
-  // writeBinaryConst: the live tree keeps its log-odds (writeBinary() would
-  // convert it to maximum likelihood first). Leaves above th_occ are written
-  // occupied, every other known leaf free.
-  if (!tree_->writeBinaryConst(path))
-    throw std::runtime_error("OctoMapLayer::writeBinary: cannot write '" + path + "'");
+  // What OcTree::writeBinaryConst writes (the live tree keeps its log-odds;
+  // writeBinary() would convert it to maximum likelihood first): leaves above
+  // th_occ are written occupied, every other known leaf free. The header and
+  // writeBinaryNode are written here because octomap 1.9.7's
+  // writeBinaryConst / writeBinaryData print "Writing N nodes to output
+  // stream... done." to stderr after every map (OCTOMAP_DEBUG in a library
+  // built without NDEBUG).
+  std::ofstream out(path, std::ios::binary | std::ios::trunc);
+  if (out)
+  {
+    out << "# Octomap OcTree binary file\n"
+           "# (feel free to add / change comments, but leave the first line as it is!)\n#\n"
+        << "id " << tree_->getTreeType() << "\n"
+        << "size " << tree_->size() << "\n"
+        << "res " << tree_->getResolution() << "\n"
+        << "data\n";
+    if (tree_->getRoot()) tree_->writeBinaryNode(out, tree_->getRoot());
+    out.close();
+  }
+  if (!out) throw std::runtime_error("OctoMapLayer::writeBinary: cannot write '" + path + "'");
 }
 
 // ------------------------------------------------------------ unprojection

@@ -156,12 +156,17 @@ void SlamIcp::integrateStop(
   rep.t_octomap_ms = 1e3 * tic.Tac();
 
   // Keyframe for the .simplemap: the stops that entered the map, with the
-  // depth images used (cleaned copies) and the other observations.
+  // depth images used (cleaned copies), the other observations, and the
+  // thinned cloud Q that MRPT's tools build their maps from (our readers
+  // skip it and use the depth images).
   if (!rep.integrated) return;
   mrpt::obs::CSensoryFrame kf;
   for (const auto& o : sf)
     if (!std::dynamic_pointer_cast<mrpt::obs::CObservation3DRangeScan>(o)) kf.insert(o);
   for (const auto& s : scans) kf.insert(s);
+  if (params_.cloud.tools_cloud_cell_m > 0 && cloud.points.size() > 0)
+    kf.insert(
+        makeToolsCloud(cloud.points, params_.cloud.tools_cloud_cell_m, scans.front()->timestamp));
   simplemap_.insert(mrpt::poses::CPose3DPDFGaussian(T_map_robot), kf);
 }
 

@@ -77,9 +77,8 @@ double SlamIcp::rebuildMaps()
     mrpt::obs::CSensoryFrame::Ptr sf;
     simplemap_.get(i, pdf, sf);
     const mrpt::poses::CPose3D T(kfs[i].pose);
-    for (const auto& o : *sf)
-      if (const auto s = std::dynamic_pointer_cast<mrpt::obs::CObservation3DRangeScan>(o))
-        octomap.insertScan(*s, T);
+    for (const auto& s : depthScansOf(*sf))  // the depth images, not the tools cloud
+      octomap.insertScan(*s, T);
   }
   metaview_ = std::move(metaview);
   octomap_ = std::move(octomap);

@@ -3,8 +3,11 @@
 #include <voxplore/mapping/robot_cloud.h>
 
 #include <cmath>
+#include <cstdint>
 #include <limits>
 #include <sstream>
+#include <unordered_set>
+#include <vector>
 
 namespace voxplore::mapping
 {
@@ -14,10 +17,14 @@ void CloudParams::loadFromConfigFile(const mrpt::config::CConfigFileBase& c, con
   MRPT_LOAD_CONFIG_VAR(z_max_m, double, c, s);
   MRPT_LOAD_CONFIG_VAR(max_range_m, double, c, s);
   MRPT_LOAD_CONFIG_VAR(max_impossible_share, double, c, s);
+  MRPT_LOAD_CONFIG_VAR(tools_cloud_cell_m, double, c, s);
   common::requireValid(z_min_m < z_max_m, c, s, "z_min_m", "need z_min_m < z_max_m");
   common::requireValid(max_range_m > 0, c, s, "max_range_m", "must be positive");
   common::requireValid(max_impossible_share >= 0 && max_impossible_share <= 1, c, s,
                        "max_impossible_share", "must be in [0, 1]");
+  common::requireValid(
+      tools_cloud_cell_m == 0 || (tools_cloud_cell_m >= 0.01 && tools_cloud_cell_m <= 1.0), c, s,
+      "tools_cloud_cell_m", "must be 0 (off) or in [0.01, 1] m");
 }
 
 void CloudParams::saveToConfigFile(mrpt::config::CConfigFileBase& c, const std::string& s) const
@@ -26,6 +33,53 @@ void CloudParams::saveToConfigFile(mrpt::config::CConfigFileBase& c, const std::
   MRPT_SAVE_CONFIG_VAR(z_max_m, c, s);
   MRPT_SAVE_CONFIG_VAR(max_range_m, c, s);
   MRPT_SAVE_CONFIG_VAR(max_impossible_share, c, s);
+  MRPT_SAVE_CONFIG_VAR(tools_cloud_cell_m, c, s);
+}
+
+mrpt::obs::CObservation3DRangeScan::Ptr makeToolsCloud(
+    const mrpt::maps::CSimplePointsMap& robot_cloud, double cell_m,
+    mrpt::Clock::time_point timestamp)
+{
+  ASSERTMSG_(cell_m > 0, "makeToolsCloud: cell_m must be positive");
+  auto obs = mrpt::obs::CObservation3DRangeScan::Create();
+  obs->sensorLabel = kToolsCloudLabel;
+  obs->timestamp = timestamp;
+  obs->sensorPose = mrpt::poses::CPose3D();  // points3D are robot-frame (see the header)
+  obs->hasRangeImage = false;
+  const auto& xs = robot_cloud.getPointsBufferRef_x();
+  const auto& ys = robot_cloud.getPointsBufferRef_y();
+  const auto& zs = robot_cloud.getPointsBufferRef_z();
+  std::unordered_set<std::uint64_t> cells;
+  cells.reserve(xs.size() / 4 + 1);
+  std::vector<std::size_t> keep;
+  const double inv = 1.0 / cell_m;
+  // 21 bits per axis: +-104 km at 0.1 m cells, far beyond any depth camera.
+  const auto key = [inv](float v)
+  {
+    return static_cast<std::uint64_t>(static_cast<std::int64_t>(std::floor(v * inv)) + (1 << 20)) &
+           0x1FFFFF;
+  };
+  for (std::size_t i = 0; i < xs.size(); i++)
+  {
+    if (cells.insert((key(xs[i]) << 42) | (key(ys[i]) << 21) | key(zs[i])).second)
+      keep.push_back(i);
+  }
+  obs->resizePoints3DVectors(keep.size());  // also the (unused, zero) pixel indices
+  for (std::size_t j = 0; j < keep.size(); j++)
+  {
+    obs->points3D_x[j] = xs[keep[j]];
+    obs->points3D_y[j] = ys[keep[j]];
+    obs->points3D_z[j] = zs[keep[j]];
+    obs->points3D_idxs_x[j] = 0;
+    obs->points3D_idxs_y[j] = 0;
+  }
+  obs->hasPoints3D = !keep.empty();
+  return obs;
+}
+
+bool isToolsCloud(const mrpt::obs::CObservation3DRangeScan& obs)
+{
+  return !obs.hasRangeImage && obs.sensorLabel == kToolsCloudLabel;
 }
 
 std::vector<mrpt::obs::CObservation3DRangeScan::Ptr> depthScansOf(const mrpt::obs::CSensoryFrame& sf)
@@ -42,7 +96,8 @@ std::vector<mrpt::obs::CObservation3DRangeScan::Ptr> allDepthObservationsOf(
 {
   std::vector<mrpt::obs::CObservation3DRangeScan::Ptr> out;
   for (const auto& o : sf)
-    if (auto s = std::dynamic_pointer_cast<mrpt::obs::CObservation3DRangeScan>(o)) out.push_back(s);
+    if (auto s = std::dynamic_pointer_cast<mrpt::obs::CObservation3DRangeScan>(o))
+      if (!isToolsCloud(*s)) out.push_back(s);
   return out;
 }
 

@@ -3,6 +3,8 @@
 #include <voxplore/navigation/DriverParams.h>
 
 #include <cmath>
+#include <filesystem>
+#include <system_error>
 
 namespace voxplore::navigation
 {
@@ -51,6 +53,7 @@ void DriverParams::loadFromConfigFile(const mrpt::config::CConfigFileBase& c, co
   MRPT_LOAD_CONFIG_VAR(secure_distance_start, double, c, s);
   MRPT_LOAD_CONFIG_VAR(secure_distance_end, double, c, s);
   MRPT_LOAD_CONFIG_VAR(verbose, bool, c, s);
+  MRPT_LOAD_CONFIG_VAR(navlog_dir, string, c, s);
 
   using common::requireValid;
   requireValid(footprint_length_m > 0, c, s, "footprint_length_m", "must be positive");
@@ -91,6 +94,10 @@ void DriverParams::loadFromConfigFile(const mrpt::config::CConfigFileBase& c, co
                    secure_distance_end <= 1,
                c, s, "secure_distance_end",
                "need 0 <= secure_distance_start < secure_distance_end <= 1");
+  std::error_code ec;
+  requireValid(navlog_dir.empty() || !std::filesystem::exists(navlog_dir, ec) ||
+                   std::filesystem::is_directory(navlog_dir, ec),
+               c, s, "navlog_dir", "names an existing file, not a directory: '" + navlog_dir + "'");
 }
 
 void DriverParams::saveToConfigFile(mrpt::config::CConfigFileBase& c, const std::string& s) const
@@ -125,6 +132,7 @@ void DriverParams::saveToConfigFile(mrpt::config::CConfigFileBase& c, const std:
   MRPT_SAVE_CONFIG_VAR(secure_distance_start, c, s);
   MRPT_SAVE_CONFIG_VAR(secure_distance_end, c, s);
   MRPT_SAVE_CONFIG_VAR(verbose, c, s);
+  MRPT_SAVE_CONFIG_VAR(navlog_dir, c, s);
 }
 
 namespace

@@ -7,6 +7,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <filesystem>
+#include <fstream>
 #include <limits>
 #include <optional>
 #include <stdexcept>
@@ -49,7 +51,64 @@ class QuietReactiveNavigator : public mrpt::nav::CReactiveNavigationSystem
   {
     m_timlog_delays.enable(verbose);
   }
+
+  /// Opens the next free DIR/log_NNN.reactivenavlog (MRPT's naming).
+  /// @return false when MRPT could not open it (it only logs the error).
+  bool openNavlog(const std::string& dir)
+  {
+    setLogFileDirectory(dir);
+    // MRPT writes the PTG descriptions (what navlog-viewer needs to draw the
+    // paths) at the start of a file only when the stream pointer differs
+    // from the previous file's: a new file may reuse the freed address.
+    m_prev_logfile = nullptr;
+    enableLogFile(true);
+    return m_logFile != nullptr;
+  }
+  /// Closes (and so finishes the gzip stream of) the current log file.
+  void closeNavlog() { enableLogFile(false); }
 };
+
+// Closes the navigation log of one drive however the drive ends.
+class NavlogScope
+{
+ public:
+  NavlogScope(QuietReactiveNavigator& nav, const std::string& dir) : nav_(nav), on_(!dir.empty())
+  {
+    if (on_ && !nav_.openNavlog(dir))
+      throw std::runtime_error("StopAndScanDriver: [navigation] navlog_dir = '" + dir +
+                               "': cannot open a new log_NNN.reactivenavlog file there");
+  }
+  ~NavlogScope()
+  {
+    if (on_) nav_.closeNavlog();
+  }
+  NavlogScope(const NavlogScope&) = delete;
+  NavlogScope& operator=(const NavlogScope&) = delete;
+
+ private:
+  QuietReactiveNavigator& nav_;
+  bool on_;
+};
+
+// Creates [navigation] navlog_dir and checks a file can be made there.
+void prepareNavlogDir(const std::string& dir)
+{
+  if (dir.empty()) return;
+  namespace fs = std::filesystem;
+  std::error_code ec;
+  fs::create_directories(dir, ec);
+  const fs::path probe = fs::path(dir) / ".voxplore_navlog_probe";
+  bool writable = !ec && fs::is_directory(dir);
+  if (writable)
+  {
+    std::ofstream f(probe);
+    writable = static_cast<bool>(f << "x");
+  }
+  fs::remove(probe, ec);
+  if (!writable)
+    throw std::runtime_error("StopAndScanDriver: [navigation] navlog_dir = '" + dir +
+                             "': cannot create a writable directory there");
+}
 }  // namespace
 
 struct StopAndScanDriver::Impl
@@ -63,6 +122,7 @@ struct StopAndScanDriver::Impl
 StopAndScanDriver::StopAndScanDriver(RobotInterface& robot, const DriverParams& params)
     : params_(params), robot_(robot), impl_(std::make_unique<Impl>(robot, params.verbose))
 {
+  prepareNavlogDir(params.navlog_dir);
   const auto level = params.verbose ? mrpt::system::LVL_INFO : mrpt::system::LVL_ERROR;
   impl_->nav.setMinLoggingLevel(level);
   impl_->adapter.setMinLoggingLevel(level);
@@ -199,6 +259,8 @@ DriveResult StopAndScanDriver::driveTo(const Eigen::Vector2d& waypoint,
   np.target.target_coords = mrpt::math::TPose2D(waypoint.x(), waypoint.y(), 0.0);
   np.target.targetAllowedDistance = static_cast<float>(params_.goal_tolerance_m);
   np.target.targetDesiredRelSpeed = 0.0;  // slow down and stop at the target
+  std::optional<NavlogScope> navlog;      // one .reactivenavlog per drive (navlog_dir)
+  navlog.emplace(nav, params_.navlog_dir);
   nav.navigate(&np);
 
   DriveLog log(robot_, distanceTo(robot_.pose(), waypoint));
@@ -228,6 +290,7 @@ DriveResult StopAndScanDriver::driveTo(const Eigen::Vector2d& waypoint,
   if (nav.getCurrentState() == CAbstractNavigator::NAVIGATING) nav.cancel();
   if (nav.getCurrentState() == CAbstractNavigator::NAV_ERROR) nav.resetNavError();
   adapter.clearCommand();
+  navlog.reset();
   DriveResult res = endDrive(robot_, log, *end);
   if (res.outcome == DriveOutcome::Blocked && params_.straight_fallback)
   {

@@ -35,7 +35,8 @@ std::vector<Waypoint> loadWaypointsFile(const std::string& path)
 TourResult runTour(
     Simulator& sim, const std::vector<Waypoint>& waypoints,
     const std::function<void(const ScanStop&)>& on_stop,
-    const std::function<void(std::size_t, std::size_t)>& on_progress)
+    const std::function<void(std::size_t, std::size_t)>& on_progress,
+    const std::function<bool()>& should_stop)
 {
   TourResult res;
   const double travelled0 = sim.robot().distanceTravelled();
@@ -43,15 +44,19 @@ TourResult runTour(
     on_stop(sim.scan());
     res.stops++;
   };
+  auto stopRequested = [&]() {
+    if (should_stop && should_stop()) res.stopped_early = true;
+    return res.stopped_early;
+  };
   scanHere();
-  for (std::size_t wi = 0; wi < waypoints.size(); wi++)
+  for (std::size_t wi = 0; wi < waypoints.size() && !stopRequested(); wi++)
   {
     const auto& wp = waypoints[wi];
     const auto p0 = sim.robot().groundTruth();
     const double len = std::hypot(wp.x - p0.x(), wp.y - p0.y());
     const double yaw_delta = wp.yaw_rad ? mrpt::math::wrapToPi(*wp.yaw_rad - p0.phi()) : 0.0;
     const int pieces = std::max(1, static_cast<int>(std::ceil(len / sim.params().scan_every_m - 1e-9)));
-    for (int k = 1; k <= pieces; k++)
+    for (int k = 1; k <= pieces && !stopRequested(); k++)
     {
       const double f = double(k) / pieces;
       std::optional<double> yaw;
@@ -65,7 +70,7 @@ TourResult runTour(
         break;  // abandon this waypoint; go on with the next
       }
     }
-    if (on_progress) on_progress(wi + 1, waypoints.size());
+    if (on_progress && !res.stopped_early) on_progress(wi + 1, waypoints.size());
   }
   res.path_length_m = sim.robot().distanceTravelled() - travelled0;
   return res;

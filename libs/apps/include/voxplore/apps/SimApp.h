@@ -29,6 +29,7 @@ struct SimRunSummary
   std::size_t collisions = 0;
   double path_length_m = 0;
   double sim_time_s = 0;
+  bool interrupted = false;  ///< stopped between stops by SIGINT / SIGTERM (interruptRequested())
 };
 
 /// @brief mrpt-sim: drives the robot through waypoints, scanning every
@@ -42,7 +43,10 @@ class SimApp
   /// @return 0 on success, 1 on error (message on stderr)
   int run(int argc, const char* const* argv);
 
-  /// @brief Runs with parsed options. @throws std::runtime_error on bad input.
+  /// @brief Runs with parsed options. Polls interruptRequested() after every
+  ///        stop: when set, ends the tour there and writes every output for
+  ///        the stops so far (SimRunSummary::interrupted).
+  ///        @throws std::runtime_error on bad input.
   SimRunSummary execute(const SimOptions& opts);
 };
 

@@ -117,7 +117,8 @@ class OctoMapLayer
   /// @brief Writes a .bt (binary, max-likelihood) file that bt2vrml and octovis load.
   ///        The format keeps only occupied (value > th_occ) and free leaves:
   ///        observed voxels between th_free and th_occ are written as free.
-  ///        The tree itself is not changed (OcTree::writeBinaryConst).
+  ///        The tree itself is not changed (the bytes of OcTree::writeBinaryConst,
+  ///        without octomap's "Writing N nodes... done." on stderr).
   /// @throws std::runtime_error naming the path when it cannot be written.
   void writeBinary(const std::string& path) const;
 

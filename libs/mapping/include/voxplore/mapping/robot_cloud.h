@@ -2,6 +2,7 @@
 #pragma once
 
 #include <mrpt/config/CLoadableOptions.h>
+#include <mrpt/core/Clock.h>
 #include <mrpt/maps/CSimplePointsMap.h>
 #include <mrpt/obs/CObservation3DRangeScan.h>
 #include <mrpt/obs/CSensoryFrame.h>
@@ -22,6 +23,10 @@ struct CloudParams : public mrpt::config::CLoadableOptions
   /// uint16 saturation, or beyond the observation's own maxRange) is skipped
   /// as faulty; below it only those pixels are dropped (0..1).
   double max_impossible_share = 0.5;
+  /// Each simplemap keyframe also carries the stop's cloud Q (robot frame,
+  /// floor removed) thinned to one point per cube this big, for MRPT's
+  /// tools (observations2map, ...): see makeToolsCloud(). 0: not added [m].
+  double tools_cloud_cell_m = 0.10;
 
   void loadFromConfigFile(const mrpt::config::CConfigFileBase& c, const std::string& s) override;
   void saveToConfigFile(mrpt::config::CConfigFileBase& c, const std::string& s) const override;
@@ -39,10 +44,33 @@ struct RobotCloud
   std::size_t dropped_other = 0;     ///< above z_max_m, beyond max_range_m, or not finite
 };
 
+/// @brief sensorLabel of the keyframe cloud for MRPT's tools (makeToolsCloud()).
+inline constexpr const char* kToolsCloudLabel = "VOXPLORE_CLOUD";
+
+/// @brief The cloud a simplemap keyframe carries for MRPT's tools: a
+///        CObservation3DRangeScan without range image whose points3D are
+///        `robot_cloud` (robot frame) thinned to the first point in each
+///        `cell_m` cube, with an identity sensorPose and label
+///        kToolsCloudLabel. MRPT 2.5.8 inserts a CObservation3DRangeScan into
+///        its maps only from points3D, and disagrees on the frame:
+///        CPointsMap applies sensorPose, COctoMap does not (it takes points3D
+///        as robot-frame; with CObservationPointCloud CPointsMap drops the
+///        robot pose instead). An identity sensorPose is right for both.
+///        Our own readers skip it (isToolsCloud()): they use the depth images.
+/// @param cell_m > 0 [m]
+mrpt::obs::CObservation3DRangeScan::Ptr makeToolsCloud(
+    const mrpt::maps::CSimplePointsMap& robot_cloud, double cell_m,
+    mrpt::Clock::time_point timestamp);
+
+/// @brief True for the observation makeToolsCloud() makes (label
+///        kToolsCloudLabel, points3D and no range image).
+bool isToolsCloud(const mrpt::obs::CObservation3DRangeScan& obs);
+
 /// @brief All CObservation3DRangeScan with a range image in a sensory frame.
 std::vector<mrpt::obs::CObservation3DRangeScan::Ptr> depthScansOf(const mrpt::obs::CSensoryFrame& sf);
 
-/// @brief Every CObservation3DRangeScan of a sensory frame, with or without a range image.
+/// @brief Every CObservation3DRangeScan of a sensory frame, with or without a
+///        range image, except the keyframe clouds for MRPT's tools (isToolsCloud()).
 std::vector<mrpt::obs::CObservation3DRangeScan::Ptr> allDepthObservationsOf(
     const mrpt::obs::CSensoryFrame& sf);
 

@@ -58,6 +58,14 @@ struct DriverParams : public mrpt::config::CLoadableOptions
   double secure_distance_end = 0.10;    ///< full speed from this free distance (of ref_distance_m)
   bool verbose = false;                 ///< MRPT navigator log messages on the console
 
+  // --- inspection ---
+  /// Directory for MRPT's navigation logs (navlog-viewer): every driveTo()
+  /// writes one gzipped `log_NNN.reactivenavlog` (MRPT's name, NNN the first
+  /// free number from 000, so files of earlier drives and runs are never
+  /// overwritten) with one mrpt::nav::CLogFileRecord per navigator step.
+  /// Created when missing; relative to the working directory. Empty: off.
+  std::string navlog_dir;
+
   /// @brief The section names this struct reads.
   static std::vector<std::string> sections() { return {"navigation"}; }
 

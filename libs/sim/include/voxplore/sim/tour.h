@@ -27,6 +27,7 @@ struct TourResult
   std::size_t stops = 0;
   std::size_t blocked_segments = 0;  ///< stop points the robot could not reach
   double path_length_m = 0;          ///< ground-truth distance travelled
+  bool stopped_early = false;        ///< should_stop() returned true before the end
 };
 
 /// @brief Scans at the start, then drives each segment in pieces of at most
@@ -35,9 +36,13 @@ struct TourResult
 ///        goes on to the next waypoint).
 /// @param on_stop called for every scan stop, in order
 /// @param on_progress called after each waypoint with (waypoints done, total)
+/// @param should_stop polled after every scan stop (so between stops, never
+///        inside one); when it returns true the tour ends there with
+///        TourResult::stopped_early set. Empty: never stops early.
 TourResult runTour(
     Simulator& sim, const std::vector<Waypoint>& waypoints,
     const std::function<void(const ScanStop&)>& on_stop,
-    const std::function<void(std::size_t, std::size_t)>& on_progress = {});
+    const std::function<void(std::size_t, std::size_t)>& on_progress = {},
+    const std::function<bool()>& should_stop = {});
 
 }  // namespace voxplore::sim
