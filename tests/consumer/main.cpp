@@ -1,9 +1,11 @@
 // A program outside voxplore: SlamIcpParams and OctoMapLayer (voxplore::mapping),
-// DriverParams and RobotInterface (voxplore::navigation), from an installed prefix.
+// DriverParams and RobotInterface (voxplore::navigation), the exploration
+// loop's parameters and clock (voxplore::mission), from an installed prefix.
 #include <mrpt/config/CConfigFileMemory.h>
 #include <mrpt/maps/CSimplePointsMap.h>
 #include <voxplore/mapping/OctoMapLayer.h>
 #include <voxplore/mapping/SlamIcp.h>
+#include <voxplore/mission/ExplorationLoop.h>
 #include <voxplore/navigation/DriverParams.h>
 #include <voxplore/navigation/RobotInterface.h>
 
@@ -47,8 +49,15 @@ int main()
   StillRobot robot;
   mrpt::maps::CSimplePointsMap obstacles;
 
+  voxplore::mission::ExplorationLoopParams limits;
+  mrpt::config::CConfigFileMemory explore;
+  limits.saveToConfigFile(explore, "explore");
+  const voxplore::mission::SystemClock clock;
+
   const bool ok = layer.numLeafNodes() > 0 && robot.obstacles(obstacles) &&
-                  nav.keyExists("CReactiveNavigationSystem", "PTG0_Type");
+                  nav.keyExists("CReactiveNavigationSystem", "PTG0_Type") &&
+                  explore.keyExists("explore", "max_steps") &&
+                  clock.now() == mrpt::Clock::now();
   std::cout << "voxplore consumer: " << layer.numLeafNodes()
             << " leaves in the start box, robot radius " << drive.robotRadius()
             << " m: " << (ok ? "OK" : "FAILED") << std::endl;
