@@ -16,6 +16,7 @@
 #include <signal.h>
 #include <sys/prctl.h>
 #include <sys/resource.h>
+#include <sys/time.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -218,6 +219,15 @@ void limitAddressSpace(std::size_t mb)
   ::setrlimit(RLIMIT_AS, &lim);
 }
 
+/// SIGALRM (default action: the child dies, the parent names it) after `ms`; 0 cancels.
+void setAlarm(unsigned ms)
+{
+  itimerval t{};
+  t.it_value.tv_sec = ms / 1000;
+  t.it_value.tv_usec = static_cast<suseconds_t>(ms % 1000) * 1000;
+  ::setitimer(ITIMER_REAL, &t, nullptr);
+}
+
 [[noreturn]] void childMain(const std::string& path, int fd, pid_t parent,
                             const RawlogReadOptions& opts) noexcept
 {
@@ -242,9 +252,9 @@ void limitAddressSpace(std::size_t mb)
     ArchiveReader reader(path);
     for (;;)
     {
-      ::alarm(opts.object_timeout_s);
+      setAlarm(opts.object_timeout_ms);
       ObjectRead r = reader.read();
-      ::alarm(0);
+      setAlarm(0);
       r.object.reset();
       if (!sendRecord(fd, r) || r.kind != ObjectRead::Kind::Object) break;
     }
@@ -273,8 +283,8 @@ std::string describeChildEnd(int status, const RawlogReadOptions& opts)
     const char* abbrev = ::sigabbrev_np(sig);
     const std::string name = std::string("SIG") + (abbrev ? abbrev : std::to_string(sig).c_str());
     if (sig == SIGALRM)
-      return "MRPT spent more than " + std::to_string(opts.object_timeout_s) +
-             " s on this object (a corrupt count?)";
+      return "MRPT spent more than " + std::to_string(opts.object_timeout_ms) +
+             " ms on this object (a corrupt count?)";
     if (sig == SIGKILL)
       return "the process deserializing it was killed (SIGKILL, out of memory?)";
     return "MRPT crashed (" + name + ") while deserializing a corrupt object (a null pointer or " +

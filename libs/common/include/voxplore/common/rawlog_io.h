@@ -83,7 +83,7 @@ struct RawlogReadOptions
   /// Address space [MB] the child may add while it parses (a corrupt length
   /// field makes MRPT allocate GBs before it reads anything).
   std::size_t object_memory_mb = 1024;
-  unsigned object_timeout_s = 60;  ///< wall time [s] the child may spend on one object
+  unsigned object_timeout_ms = 60000;  ///< wall time [ms] the child may spend on one object
   bool child_output = false;       ///< keep the child's stdout/stderr (debugging)
 };
 
