@@ -380,7 +380,7 @@ TEST(Rawlog, ManyReadsLeaveNoDescriptorsOrChildProcesses)
   writeSmallRawlog(good);
   const auto fds = countOpenFds();
   const auto children = countChildren();
-  for (int i = 0; i < 30; i++)
+  for (int i = 0; i < 10; i++)
   {
     std::size_t seen = 0;
     EXPECT_FALSE(readError(good, seen));

@@ -73,7 +73,7 @@ void saveOutputsQuietly(const mapping::SlamIcp& slam, const std::string& dir)
 {
   std::cerr.flush();
   std::fflush(stderr);
-  const int saved = ::dup(STDERR_FILENO);
+  const int saved = ::fcntl(STDERR_FILENO, F_DUPFD_CLOEXEC, 0);
   const int devnull = ::open("/dev/null", O_WRONLY | O_CLOEXEC);
   if (saved >= 0 && devnull >= 0) ::dup2(devnull, STDERR_FILENO);
   auto restore = [&]() {

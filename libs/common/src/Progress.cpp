@@ -43,8 +43,10 @@ void Progress::print(const std::string& note, bool force)
   const double elapsed = std::chrono::duration<double>(now - start_).count();
   if (total_ == 0)  // unknown total: a count, no bar, no "i/0", no ETA
   {
+    std::string unit = unit_;
+    if (done_ == 1 && unit.size() > 1 && unit.back() == 's') unit.pop_back();  // "1 stop"
     std::fprintf(stderr, "\r%s: %zu%s%s  %.1fs  %s\033[K", label_.c_str(), done_,
-                 unit_.empty() ? "" : " ", unit_.c_str(), elapsed, note.c_str());
+                 unit.empty() ? "" : " ", unit.c_str(), elapsed, note.c_str());
     std::fflush(stderr);
     return;
   }

@@ -14,7 +14,7 @@ namespace voxplore::common
 class Progress
 {
  public:
-  /// @param unit what is counted, plural ("stops"), shown when `total` is 0
+  /// @param unit what is counted, plural ("stops"; "1 stop"), shown when `total` is 0
   Progress(std::string label, std::size_t total, bool enabled = true, std::string unit = {});
   ~Progress();
   /// @brief Sets the count done; `note` is appended to the line.
