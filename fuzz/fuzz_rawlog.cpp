@@ -74,8 +74,16 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
                                          },
                                          opts);
   }
-  catch (const std::runtime_error&)
+  catch (const std::runtime_error& e)
   {
+    // The guard itself must work on every call: a pipe or fork that fails
+    // (descriptors or processes leaking across calls) would otherwise hide
+    // as an ordinary error and silently stop the fuzzing.
+    const std::string msg = e.what();
+    if (msg.find(": pipe: ") != std::string::npos || msg.find(": fork: ") != std::string::npos)
+    {
+      __builtin_trap();
+    }
   }
   return 0;
 }
