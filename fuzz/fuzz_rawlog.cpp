@@ -1,11 +1,13 @@
 /* voxplore fuzz target: our rawlog reader (libs/common forEachRawlogEntry),
- * which hands the stream to MRPT's CArchive::ReadObject (plain or gzip).
- * The input is written to a per-process file under /dev/shm (or $TMPDIR) so
- * the real entry point runs, gzip detection included. Inputs are made by the
- * structure-aware mutator in rawlog_mutator.cpp (MRPT's deserialisation is not
- * safe on arbitrary bytes: see there and fuzz/README.md). Contract under test:
- * every input either yields entries, each with a sensory frame, or throws
- * std::runtime_error. */
+ * which hands the stream to MRPT's CArchive::ReadObject (plain or gzip), with
+ * its protection on: every object is parsed first in a forked child process
+ * (rawlog_objects.cpp), so bytes that crash MRPT or make it allocate GBs
+ * (fuzz/mrpt_crashes/) are errors, not crashes. The input is written to a
+ * per-process file under /dev/shm (or $TMPDIR) so the real entry point runs,
+ * gzip detection included. Inputs come from plain byte mutation and from the
+ * structure-aware mutator in rawlog_mutator.cpp, half each. Contract under
+ * test: any bytes either yield entries, each with a sensory frame, or throw
+ * std::runtime_error (RawlogError for corrupt ones), never crash, leak or hang. */
 
 #include <mrpt/obs/CObservation.h>
 #include <unistd.h>
@@ -49,6 +51,11 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     std::ofstream out(path(), std::ios::binary | std::ios::trunc);
     out.write(reinterpret_cast<const char*>(data), static_cast<std::streamsize>(size));
   }
+  // The child's limits: far below libFuzzer's -rss_limit_mb / -malloc_limit_mb
+  // and -timeout, so MRPT's faults end in the child, never in this process.
+  voxplore::common::RawlogReadOptions opts;
+  opts.object_memory_mb = 32;
+  opts.object_timeout_ms = 1000;
   try
   {
     std::size_t observations = 0;
@@ -64,10 +71,19 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
                                              observations += obs ? 1 : 0;
                                            }
                                            return true;
-                                         });
+                                         },
+                                         opts);
   }
-  catch (const std::runtime_error&)
+  catch (const std::runtime_error& e)
   {
+    // The guard itself must work on every call: a pipe or fork that fails
+    // (descriptors or processes leaking across calls) would otherwise hide
+    // as an ordinary error and silently stop the fuzzing.
+    const std::string msg = e.what();
+    if (msg.find(": pipe: ") != std::string::npos || msg.find(": fork: ") != std::string::npos)
+    {
+      __builtin_trap();
+    }
   }
   return 0;
 }

@@ -1,22 +1,21 @@
-/* voxplore fuzz harness: a structure-aware mutator for fuzz_rawlog.
+/* voxplore fuzz harness: the mutator of fuzz_rawlog, half plain byte
+ * mutation (libFuzzer's own, LLVMFuzzerMutate) and half structure-aware.
  *
- * Why not plain byte mutation: MRPT 2.5.8 deserialisation is not safe on
- * corrupt bytes, and those faults are MRPT's, out of our reach (reproducers
- * in fuzz/mrpt_crashes/, see fuzz/README.md):
- *  - a nested object of the wrong class (a CPose2D where CActionRobotMovement2D
- *    expects a CPosePDF) is a null-pointer dereference (SIGSEGV) in
- *    CActionRobotMovement2D::serializeFrom;
- *  - length fields are trusted: operator>>(CArchive&, std::string&) and
- *    CMatrixDynamic::realloc (range images) allocate what a corrupt uint32 says
- *    (GBs, zero-filled) before reading, and mrpt::aligned_allocator_cpp11 does
- *    not check for a failed allocation.
- * So this mutator keeps MRPT's object payloads well-formed and mutates what
- * our reader (libs/common forEachRawlogEntry) decides on: which objects come
- * in which order (action collections, sensory frames, bare observations,
- * foreign classes), their contents through MRPT's API (range images of any
- * size 0..16 px, NaN/inf/huge poses, ranges, units, timestamps, empty frames),
- * truncation at any byte, trailing garbage that MRPT rejects at the object
- * header, and gzip or not. */
+ * Plain byte mutation finds, within seconds, inputs on which MRPT 2.5.8
+ * crashes (fuzz/mrpt_crashes/, fuzz/README.md): a null dereference in
+ * CActionRobotMovement2D::serializeFrom, length fields that allocate GBs
+ * unchecked. The reader under test parses every object in a forked child
+ * first, so those are errors now, and the target takes any bytes.
+ *
+ * Plain mutation rarely makes a well-formed MRPT payload, so the other half
+ * keeps payloads well-formed and mutates what our reader (libs/common
+ * forEachRawlogEntry) decides on: which objects come in which order (action
+ * collections, sensory frames, bare observations, foreign classes), their
+ * contents through MRPT's API (range images of any size 0..16 px, NaN/inf/huge
+ * poses, ranges, units, timestamps, empty frames), truncation at any byte,
+ * trailing garbage that MRPT rejects at the object header, and gzip or not.
+ * It reads the input's objects with the same protected reader
+ * (forEachRawlogObject): a raw-mutated input may crash MRPT too. */
 
 #include <mrpt/io/CMemoryStream.h>
 #include <mrpt/io/zip.h>
@@ -29,7 +28,14 @@
 #include <mrpt/poses/CPose2D.h>
 #include <mrpt/serialization/CArchive.h>
 
+#include <unistd.h>
+#include <voxplore/common/rawlog_io.h>
+
 #include <cstdint>
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
 #include <cstring>
 #include <limits>
 #include <random>
@@ -53,69 +59,46 @@ bool isGzip(const std::uint8_t* d, std::size_t n)
   return n >= 2 && d[0] == 0x1f && d[1] == 0x8b;
 }
 
-/// A byte buffer MRPT reads all or nothing, like forEachRawlogEntry's stream:
-/// CArchive accepts a short read inside a field, and a seed cut inside a
-/// uint32 count would otherwise give a garbage count (GBs) here.
-class ExactBuffer : public mrpt::io::CStream
-{
- public:
-  explicit ExactBuffer(const Bytes& b) : b_(b) {}
-  std::size_t Read(void* out, std::size_t n) override
-  {
-    if (n > b_.size() - pos_)
-    {
-      pos_ = b_.size();
-      return 0;
-    }
-    std::memcpy(out, b_.data() + pos_, n);
-    pos_ += n;
-    return n;
-  }
-  std::size_t Write(const void*, std::size_t) override { return 0; }
-  std::uint64_t Seek(std::int64_t, TSeekOrigin) override { return pos_; }
-  std::uint64_t getTotalBytesCount() const override { return b_.size(); }
-  std::uint64_t getPosition() const override { return pos_; }
-
- private:
-  const Bytes& b_;
-  std::size_t pos_ = 0;
-};
-
-/// The leading objects MRPT reads from `data` (plain or gzip); stops at the
-/// first fault. Corpus inputs come from the seeds or this mutator, so their
-/// payloads are well-formed up to a truncation or a rejected header.
+/// The leading objects of `data` (plain or gzip) that MRPT reads whole, by
+/// the protected reader (a child process parses them first); stops at the
+/// first fault.
 std::vector<Obj> parseObjects(const std::uint8_t* data, std::size_t size, bool& gzip)
 {
-  Bytes raw(data, data + size);
   gzip = isGzip(data, size);
-  if (gzip)
-  {
-    Bytes out;
-    mrpt::io::zip::decompress_gz_data_block(raw, out);
-    raw.swap(out);
-  }
   std::vector<Obj> objects;
-  if (raw.empty())
+  if (size == 0)
   {
     return objects;
   }
-  ExactBuffer in(raw);
-  auto arch = mrpt::serialization::archiveFrom(in);
-  for (;;)
+  namespace fs = std::filesystem;
+  static const std::string path =
+      ((fs::is_directory("/dev/shm") ? fs::path("/dev/shm") : fs::temp_directory_path()) /
+       ("voxplore_fuzz_mutator_" + std::to_string(::getpid()) + ".rawlog"))
+          .string();
+  static const bool registered = (std::atexit([] { std::remove(path.c_str()); }), true);
+  (void)registered;
+  std::ofstream(path, std::ios::binary | std::ios::trunc)
+      .write(reinterpret_cast<const char*>(data), static_cast<std::streamsize>(size));
+  voxplore::common::RawlogReadOptions opts;
+  opts.object_memory_mb = 32;
+  opts.object_timeout_ms = 1000;
+  try
   {
-    try
-    {
-      Obj o = arch.ReadObject();
-      if (!o)
-      {
-        break;
-      }
-      objects.push_back(std::move(o));
-    }
-    catch (...)
-    {
-      break;
-    }
+    voxplore::common::forEachRawlogObject(
+        path,
+        [&](const Obj& o, std::uint64_t)
+        {
+          if (!o)
+          {
+            return false;
+          }
+          objects.push_back(o);
+          return true;
+        },
+        opts);
+  }
+  catch (const std::runtime_error&)
+  {
   }
   return objects;
 }
@@ -377,10 +360,16 @@ Bytes serialize(const std::vector<Obj>& objs)
 }
 }  // namespace
 
+extern "C" std::size_t LLVMFuzzerMutate(std::uint8_t* data, std::size_t size, std::size_t max_size);
+
 extern "C" std::size_t LLVMFuzzerCustomMutator(std::uint8_t* data, std::size_t size,
                                                std::size_t max_size, unsigned int seed)
 {
   Rng rng(seed);
+  if (rng() % 2 == 0)
+  {
+    return LLVMFuzzerMutate(data, size, max_size);  // plain bytes: the reader takes any
+  }
   bool gzip = false;
   Bytes out;
   try
@@ -407,9 +396,9 @@ extern "C" std::size_t LLVMFuzzerCustomMutator(std::uint8_t* data, std::size_t s
       break;
     case 1:
     {
-      // Trailing garbage MRPT rejects at the header byte (< 0x80: not a class
-      // name length), so no corrupt payload reaches MRPT.
-      out.push_back(static_cast<std::uint8_t>(rng() % 0x80));
+      // Trailing garbage: any bytes (a header byte >= 0x80 names a class
+      // whose payload MRPT then parses; the reader's child takes the risk).
+      out.push_back(static_cast<std::uint8_t>(rng()));
       for (unsigned k = rng() % 8; k > 0; --k)
       {
         out.push_back(static_cast<std::uint8_t>(rng()));

@@ -8,12 +8,17 @@
 #include <octomap/OcTree.h>
 #include <voxplore/apps/ReplayApp.h>
 #include <voxplore/apps/SimApp.h>
+#include <voxplore/common/rawlog_io.h>
 #include <voxplore/common/trajectory_io.h>
 #include <voxplore/eval/map_accuracy.h>
 #include <voxplore/mapping/OctoMapLayer.h>
 #include <voxplore/sim/ground_truth.h>
 #include <voxplore/sim/world_loading.h>
 
+#include <sys/wait.h>
+
+#include <algorithm>
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 
@@ -215,4 +220,181 @@ TEST(Replay, LongCorridorDegeneracyKeepsOdometryAlongTheAxis)
   EXPECT_LT(on.ate_rmse_m, 0.05);
   EXPECT_LT(on.ate_rmse_m, 0.5 * off.ate_rmse_m);
   EXPECT_LT(on.final_xy_error_m, off.final_xy_error_m);
+}
+
+// ===================================================== issue 14: no crash on any rawlog
+// voxplore-replay itself (the binary) on the first 3 stops of the recorded
+// tour followed by bytes that crash MRPT (fuzz/mrpt_crashes/), by garbage, or
+// by a cut inside the 4th entry: exit code 1, exactly one line on stderr
+// naming the file, entry 3 and its byte offset, and every output of the 3
+// good stops written, identical to a clean replay of those 3 stops.
+namespace
+{
+std::string replayBin() { return std::string(VOXPLORE_BIN_DIR) + "/voxplore-replay"; }
+
+std::string slurp(const std::string& path)
+{
+  std::ifstream in(path, std::ios::binary);
+  return std::string((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+}
+
+struct RunResult
+{
+  int exit_code = -1;
+  std::string out, err;
+};
+
+RunResult runReplay(const std::string& rawlog, const std::string& out_dir, const std::string& extra)
+{
+  fs::remove_all(out_dir);
+  const std::string cmd = "'" + replayBin() + "' --config '" + test::sourceDir() +
+                          "/config/replay.ini' --rawlog '" + rawlog + "' --out '" + out_dir + "' " +
+                          extra + " > '" + out_dir + ".stdout' 2> '" + out_dir + ".stderr'";
+  const int status = std::system(cmd.c_str());
+  RunResult r;
+  r.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
+  r.out = slurp(out_dir + ".stdout");
+  r.err = slurp(out_dir + ".stderr");
+  return r;
+}
+
+/// The first `n` entries of the recorded tour, as a plain rawlog.
+std::string recordedPrefix(std::size_t n)
+{
+  const auto path = tmp("recorded_first_" + std::to_string(n) + ".rawlog");
+  common::RawlogWriter w(path);
+  common::forEachRawlogEntry(recorded(), [&](const common::RawlogEntry& e) {
+    w.write(e.actions ? *e.actions : mrpt::obs::CActionCollection(), *e.observations);
+    return w.entries() < n;
+  });
+  EXPECT_EQ(w.entries(), n);
+  return path;
+}
+
+std::size_t lineCount(const std::string& text)
+{
+  return static_cast<std::size_t>(std::count(text.begin(), text.end(), '\n'));
+}
+
+std::size_t simplemapEntries(const std::string& path)
+{
+  mrpt::maps::CSimpleMap sm;
+  mrpt::io::CFileGZInputStream in(path);
+  auto arch = mrpt::serialization::archiveFrom(in);
+  arch >> sm;
+  return sm.size();
+}
+}  // namespace
+
+TEST(Replay, CorruptTailEndsInOneErrorLineWithTheMapsOfTheGoodStops)
+{
+  if (!fs::exists(replayBin())) GTEST_SKIP() << "not built: " << replayBin();
+  const auto good = recordedPrefix(3);
+  const auto good_size = fs::file_size(good);
+  const auto ref_dir = tmp("replay_prefix_ref");
+  const auto ref = runReplay(good, ref_dir, "--quiet");
+  ASSERT_EQ(ref.exit_code, 0) << ref.err;
+  ASSERT_EQ(common::readTum(ref_dir + "/trajectory_est.tum").size(), 3u);
+
+  const std::string bytes = slurp(good);
+  const auto four_path = recordedPrefix(4);
+  const std::string four = slurp(four_path);
+  ASSERT_GT(four.size(), bytes.size() + 100);
+  // entry 3 is (actions, sensory frame): the cut below falls in the frame
+  std::uint64_t frame3 = 0;
+  common::forEachRawlogObject(four_path, [&](const auto&, std::uint64_t at) {
+    frame3 = at;
+    return true;
+  });
+  ASSERT_GT(frame3, good_size);
+  const std::string src = test::sourceDir() + "/fuzz/mrpt_crashes/";
+  struct Case
+  {
+    std::string name, tail, reason;
+    std::uint64_t offset;  ///< where the object that cannot be read starts
+  };
+  const std::vector<Case> cases = {
+      {"null_deref", slurp(src + "null_deref_CActionRobotMovement2D.rawlog"), "MRPT ", good_size},
+      {"huge_string", slurp(src + "huge_alloc_string.rawlog"), "", good_size},
+      {"huge_matrix", slurp(src + "huge_alloc_CMatrixDynamic.rawlog"), "", good_size},
+      {"garbage", "\x85XXXXX and more garbage", "corrupt object: ", good_size},
+      {"truncated", four.substr(bytes.size(), (frame3 - bytes.size()) + (four.size() - frame3) / 2),
+       "the file ends inside an object (truncated)", frame3}};
+  for (const auto& c : cases)
+  {
+    SCOPED_TRACE(c.name);
+    const auto path = tmp("prefix_then_" + c.name + ".rawlog");
+    std::ofstream(path, std::ios::binary) << bytes << c.tail;
+    const auto dir = tmp("replay_tail_" + c.name);
+    const auto r = runReplay(path, dir, "--quiet");
+    EXPECT_EQ(r.exit_code, 1) << r.err;
+    EXPECT_EQ(lineCount(r.err), 1u) << r.err;
+    const std::string head = "voxplore-replay: error: " + path + ": entry 3 (byte offset " +
+                             std::to_string(c.offset) + "): " + c.reason;
+    EXPECT_EQ(r.err.rfind(head, 0), 0u) << r.err;
+    EXPECT_NE(r.err.find("(the outputs of the 3 stops before it are in " + dir + ")"),
+              std::string::npos)
+        << r.err;
+    EXPECT_EQ(r.err.find("backtrace"), std::string::npos) << r.err;
+    // the good stops' outputs, as a clean replay of them writes them
+    EXPECT_EQ(slurp(dir + "/trajectory_est.tum"), slurp(ref_dir + "/trajectory_est.tum"));
+    EXPECT_EQ(slurp(dir + "/map.bt"), slurp(ref_dir + "/map.bt"));
+    octomap::OcTree tree(dir + "/map.bt");
+    EXPECT_GT(tree.getNumLeafNodes(), 100u);
+    EXPECT_EQ(simplemapEntries(dir + "/map.simplemap"), simplemapEntries(ref_dir + "/map.simplemap"));
+    EXPECT_EQ(lineCount(slurp(dir + "/stops.csv")), 4u);  // header + 3 stops
+    const auto summary = slurp(dir + "/summary.json");
+    EXPECT_NE(summary.find("\"termination_reason\": \"rawlog error\""), std::string::npos) << summary;
+    EXPECT_NE(summary.find("\"stops\": 3,"), std::string::npos) << summary;
+  }
+}
+
+TEST(Replay, MrptCrashReproducersAloneAreOneErrorLineAndExitCodeOne)
+{
+  if (!fs::exists(replayBin())) GTEST_SKIP() << "not built: " << replayBin();
+  for (const char* name : {"null_deref_CActionRobotMovement2D", "huge_alloc_string",
+                           "huge_alloc_CMatrixDynamic"})
+  {
+    const auto path = test::sourceDir() + "/fuzz/mrpt_crashes/" + name + ".rawlog";
+    const auto r = runReplay(path, tmp(std::string("replay_alone_") + name), "");  // with progress
+    EXPECT_EQ(r.exit_code, 1) << r.err;
+    EXPECT_EQ(lineCount(r.err), 1u) << r.err;
+    EXPECT_EQ(r.err.rfind("voxplore-replay: error: " + path + ": entry 0 (byte offset 0): ", 0), 0u)
+        << r.err;
+    EXPECT_NE(r.err.find("no stop before it, nothing written"), std::string::npos) << r.err;
+  }
+}
+
+TEST(Replay, VerboseAddsMrptsWholeMessageBeforeTheErrorLine)
+{
+  if (!fs::exists(replayBin())) GTEST_SKIP() << "not built: " << replayBin();
+  const auto path = tmp("verbose_garbage.rawlog");
+  std::ofstream(path, std::ios::binary) << slurp(recordedPrefix(3)) << "\x85XXXXX and more garbage";
+  const auto quiet = runReplay(path, tmp("replay_verbose"), "--quiet");
+  const auto verbose = runReplay(path, tmp("replay_verbose"), "--quiet --verbose");
+  EXPECT_EQ(quiet.exit_code, 1);
+  EXPECT_EQ(verbose.exit_code, 1);
+  EXPECT_EQ(quiet.err.find("MRPT exception"), std::string::npos) << quiet.err;
+  EXPECT_NE(verbose.err.find("MRPT exception"), std::string::npos) << verbose.err;
+  EXPECT_GT(lineCount(verbose.err), 3u) << verbose.err;
+  // the same one-line error, last
+  const auto last = verbose.err.substr(verbose.err.rfind('\n', verbose.err.size() - 2) + 1);
+  EXPECT_EQ(last, quiet.err);
+
+  const auto crash = runReplay(test::sourceDir() + "/fuzz/mrpt_crashes/null_deref_CActionRobotMovement2D.rawlog",
+                               tmp("replay_verbose_crash"), "--quiet --verbose");
+  EXPECT_EQ(crash.exit_code, 1);
+  // how the child died (a signal; under ASan its report's exit code)
+  EXPECT_NE(crash.err.find("the child process that deserializes the rawlog first"), std::string::npos)
+      << crash.err;
+}
+
+TEST(Replay, ProgressCountsStopsWithoutAnUnknownTotal)
+{
+  if (!fs::exists(replayBin())) GTEST_SKIP() << "not built: " << replayBin();
+  const auto r = runReplay(recordedPrefix(3), tmp("replay_progress"), "");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.err.find("voxplore-replay: 3 stops"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("stop 2"), std::string::npos) << r.err;
+  EXPECT_EQ(r.err.find("/0"), std::string::npos) << r.err;
 }

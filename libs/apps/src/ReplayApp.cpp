@@ -9,10 +9,15 @@
 #include <voxplore/eval/trajectory_error.h>
 #include <voxplore/mapping/SlamIcp.h>
 
+#include <fcntl.h>
+#include <unistd.h>
+
+#include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <iostream>
 #include <map>
+#include <optional>
 #include <set>
 #include <sstream>
 
@@ -33,7 +38,11 @@ const char* kDescription =
     "trajectory error. Faulty depth images (NaN/inf/zero/negative units, bad intrinsics or "
     "pose, impossible ranges) are skipped with a warning naming the stop and camera. SIGINT "
     "or SIGTERM stops after the current stop, writes every output (termination_reason "
-    "\"interrupted\") and exits with 130; a second one kills at once.";
+    "\"interrupted\") and exits with 130; a second one kills at once. A corrupt or truncated "
+    "rawlog (even bytes that crash MRPT's deserialisation: each object is parsed in a child "
+    "process first) ends in one error line naming the file, the entry and its byte offset, "
+    "exit code 1, with every output of the stops before it written (termination_reason "
+    "\"rawlog error\"); --verbose adds MRPT's whole message.";
 
 mapping::SlamIcpParams loadParams(const std::string& path)
 {
@@ -56,6 +65,34 @@ std::string classCounts(const std::map<std::string, std::size_t>& counts)
     first = false;
   }
   return counts.empty() ? "nothing" : os.str();
+}
+
+/// slam.saveOutputs(dir) without OctoMap's " done." on stderr (liboctomap's
+/// writeBinary prints it; an error must stay the only line there).
+void saveOutputsQuietly(const mapping::SlamIcp& slam, const std::string& dir)
+{
+  std::cerr.flush();
+  std::fflush(stderr);
+  const int saved = ::fcntl(STDERR_FILENO, F_DUPFD_CLOEXEC, 0);
+  const int devnull = ::open("/dev/null", O_WRONLY | O_CLOEXEC);
+  if (saved >= 0 && devnull >= 0) ::dup2(devnull, STDERR_FILENO);
+  auto restore = [&]() {
+    std::cerr.flush();
+    std::fflush(stderr);
+    if (saved >= 0 && devnull >= 0) ::dup2(saved, STDERR_FILENO);
+    if (saved >= 0) ::close(saved);
+    if (devnull >= 0) ::close(devnull);
+  };
+  try
+  {
+    slam.saveOutputs(dir);
+  }
+  catch (...)
+  {
+    restore();
+    throw;
+  }
+  restore();
 }
 
 void writeSummary(const ReplaySummary& s, const std::string& path)
@@ -95,6 +132,10 @@ int ReplayApp::run(int argc, const char* const* argv)
     TCLAP::ValueArg<std::size_t> max_stops("n", "max-stops", "Process at most N stops", false, 0,
                                            "N", cmd);
     TCLAP::SwitchArg quiet("q", "quiet", "No progress bar", cmd);
+    TCLAP::SwitchArg verbose("v", "verbose",
+                             "On a corrupt rawlog, print MRPT's whole message (with its backtrace) "
+                             "before the one-line error",
+                             cmd);
     if (!cmd.parse(argc, const_cast<const char**>(argv))) return exitCodeAfterFailedParse(argc, argv);
     installInterruptHandler();
     ReplayOptions o;
@@ -105,7 +146,18 @@ int ReplayApp::run(int argc, const char* const* argv)
     if (no_icp.getValue()) o.icp = false;
     o.max_stops = max_stops.getValue();
     o.quiet = quiet.getValue();
-    const auto s = execute(o);
+    o.verbose = verbose.getValue();
+    ReplaySummary s;
+    try
+    {
+      s = execute(o);
+    }
+    catch (const common::RawlogError& e)
+    {
+      if (o.verbose && !e.details().empty())
+        std::cerr << "voxplore-replay: details of the error below:\n" << e.details() << std::endl;
+      throw;
+    }
     std::cout << "voxplore-replay: " << s.stops << " stops (" << s.flagged << " flagged, "
               << s.degenerate << " degenerate), metaview " << s.metaview_points << " points, "
               << s.mean_stop_ms << " ms per stop";
@@ -142,7 +194,8 @@ ReplaySummary ReplayApp::execute(const ReplayOptions& opts)
   mapping::SlamIcp slam(params);
   ReplaySummary s;
   std::map<std::string, std::size_t> other_classes;
-  common::Progress progress("voxplore-replay", 0, !opts.quiet);
+  // The number of stops is unknown before the end: a count, no bar.
+  common::Progress progress("voxplore-replay", 0, !opts.quiet, "stops");
   auto visit = [&](const common::RawlogEntry& e) {
     if (interruptRequested())  // SIGINT / SIGTERM: stop between two stops, write everything
     {
@@ -191,23 +244,34 @@ ReplaySummary ReplayApp::execute(const ReplayOptions& opts)
     }
     return true;
   };
+  // A corrupt or truncated rawlog, even one that crashes MRPT (the reader
+  // parses each object in a child process first), ends in one error line
+  // naming the file and entry, after every output of the stops before it.
+  std::optional<common::RawlogError> read_error;
+  common::RawlogReadOptions read_opts;
+  read_opts.child_output = opts.verbose;
   try
   {
-    common::forEachRawlogEntry(opts.rawlog, visit);
+    common::forEachRawlogEntry(opts.rawlog, visit, read_opts);
+  }
+  catch (const common::RawlogError& e)
+  {
+    read_error = e;
+    s.termination_reason = "rawlog error";
   }
   catch (const std::exception& e)
   {
     progress.finish();
-    if (slam.numStops() > 0)
-    {
-      slam.saveOutputs(opts.out_dir);
-      throw std::runtime_error(std::string(e.what()) + " (the map of the " +
-                               std::to_string(slam.numStops()) + " stops before it was written to " +
-                               opts.out_dir + ")");
-    }
-    throw;
+    if (slam.numStops() == 0) throw;
+    saveOutputsQuietly(slam, opts.out_dir);
+    throw std::runtime_error(std::string(e.what()) + " (the map of the " +
+                             std::to_string(slam.numStops()) + " stops before it was written to " +
+                             opts.out_dir + ")");
   }
   progress.finish();
+  if (read_error && s.stops == 0)
+    throw common::RawlogError(std::string(read_error->what()) + "; no stop before it, nothing written",
+                              read_error->details(), read_error->entry(), read_error->byteOffset());
   if (s.stops == 0 && s.termination_reason == "interrupted")
     throw std::runtime_error("interrupted before the first stop of " + opts.rawlog +
                              "; nothing written");
@@ -215,7 +279,7 @@ ReplaySummary ReplayApp::execute(const ReplayOptions& opts)
     throw std::runtime_error(opts.rawlog + ": no CObservation3DRangeScan with a range image in " +
                              std::to_string(s.entries) + " entries (found: " +
                              classCounts(other_classes) + "); voxplore needs depth images");
-  slam.saveOutputs(opts.out_dir);
+  saveOutputsQuietly(slam, opts.out_dir);
 
   double total_ms = 0;
   for (const auto& r : slam.reports())
@@ -248,6 +312,11 @@ ReplaySummary ReplayApp::execute(const ReplayOptions& opts)
     s.final_yaw_error_deg = mrpt::RAD2DEG(err.final_yaw_error_rad);
   }
   writeSummary(s, (fs::path(opts.out_dir) / "summary.json").string());
+  if (read_error)
+    throw common::RawlogError(std::string(read_error->what()) + " (the outputs of the " +
+                                  (s.stops == 1 ? std::string("stop") : std::to_string(s.stops) + " stops") +
+                                  " before it are in " + opts.out_dir + ")",
+                              read_error->details(), read_error->entry(), read_error->byteOffset());
   return s;
 }
 

@@ -42,7 +42,8 @@ int runGuarded(const std::string& app_name, const std::function<int()>& body)
   }
   catch (const std::exception& e)
   {
-    std::cerr << "\n" << app_name << ": error: " << e.what() << std::endl;
+    // One line: a Progress line was ended by its destructor during unwinding.
+    std::cerr << app_name << ": error: " << e.what() << std::endl;
     return 1;
   }
 }

@@ -1,55 +1,19 @@
-#include <mrpt/io/CFileGZInputStream.h>
 #include <mrpt/io/CMemoryStream.h>
 #include <mrpt/obs/CObservation.h>
 #include <mrpt/serialization/CArchive.h>
 #include <mrpt/serialization/CSerializable.h>
 #include <voxplore/common/rawlog_io.h>
 
+#include "rawlog_objects.h"
+
 #include <filesystem>
+#include <fstream>
+#include <sstream>
 #include <stdexcept>
+#include <vector>
 
 namespace voxplore::common
 {
-namespace
-{
-/// Reads all or nothing. MRPT's CArchive accepts a short read inside a field
-/// (ReadBuffer throws only when zero bytes come): a rawlog truncated inside a
-/// uint32 count leaves that count's last bytes unset, and the garbage count
-/// then allocates gigabytes or loops for minutes (found by fuzz/fuzz_rawlog).
-/// Reporting a short read as zero bytes makes CArchive throw at once.
-/// consumed() tells a clean end of file (CExceptionEOF at an object boundary)
-/// from a file cut at the boundary of an object nested in another.
-class AllOrNothingInput : public mrpt::io::CStream
-{
- public:
-  explicit AllOrNothingInput(mrpt::io::CStream& in) : in_(in) {}
-
-  size_t Read(void* buffer, size_t count) override
-  {
-    auto* p = static_cast<unsigned char*>(buffer);
-    size_t got = 0;
-    while (got < count)
-    {
-      const size_t n = in_.Read(p + got, count - got);
-      if (n == 0) break;
-      got += n;
-    }
-    consumed_ += got;
-    return got == count ? count : 0;
-  }
-  /// Bytes taken from the underlying stream so far.
-  uint64_t consumed() const { return consumed_; }
-  size_t Write(const void*, size_t) override { return 0; }
-  uint64_t Seek(int64_t offset, TSeekOrigin origin) override { return in_.Seek(offset, origin); }
-  uint64_t getTotalBytesCount() const override { return in_.getTotalBytesCount(); }
-  uint64_t getPosition() const override { return in_.getPosition(); }
-
- private:
-  mrpt::io::CStream& in_;
-  uint64_t consumed_ = 0;
-};
-}  // namespace
-
 RawlogWriter::RawlogWriter(const std::string& path) : path_(path)
 {
   out_.open(path, std::ios::binary | std::ios::trunc);
@@ -73,49 +37,99 @@ void RawlogWriter::write(
   entries_++;
 }
 
-std::size_t forEachRawlogEntry(
-    const std::string& path, const std::function<bool(const RawlogEntry&)>& visit)
+std::string summaryLineOf(const std::string& text)
+{
+  // MRPT: "==== MRPT exception ====\nMessage:  WHAT\nOriginal exception:\n==== MRPT
+  // exception ====\nMessage:  WHY\nLocation: ...\nCall stack backtrace: ...".
+  std::vector<std::string> lines;
+  std::istringstream in(text);
+  for (std::string l; std::getline(in, l);)
+  {
+    const auto a = l.find_first_not_of(" \t\r");
+    if (a != std::string::npos) lines.push_back(l.substr(a, l.find_last_not_of(" \t\r") - a + 1));
+  }
+  std::string out;
+  const std::string kMessage = "Message:";
+  for (const auto& l : lines)
+  {
+    if (l.compare(0, kMessage.size(), kMessage) != 0) continue;
+    const auto m = l.find_first_not_of(' ', kMessage.size());
+    if (m != std::string::npos) out += (out.empty() ? "" : ": ") + l.substr(m);
+  }
+  if (out.empty()) out = lines.empty() ? std::string("(no message)") : lines.front();
+  constexpr std::size_t kMax = 300;
+  return out.size() > kMax ? out.substr(0, kMax) + "..." : out;
+}
+
+namespace
+{
+/// Checks the file and tells whether it is gzip-compressed.
+bool checkRawlogFile(const std::string& path)
 {
   namespace fs = std::filesystem;
   if (!fs::is_regular_file(path))
     throw std::runtime_error("rawlog file not found: '" + path + "'");
   if (fs::file_size(path) == 0) throw std::runtime_error("rawlog file is empty: '" + path + "'");
-  mrpt::io::CFileGZInputStream in;
-  if (!in.open(path)) throw std::runtime_error("cannot open rawlog file '" + path + "'");
-  AllOrNothingInput exact(in);
-  auto arch = mrpt::serialization::archiveFrom(exact);
+  std::ifstream f(path, std::ios::binary);
+  char magic[2] = {0, 0};
+  return f.read(magic, 2) && magic[0] == '\x1f' && magic[1] == '\x8b';
+}
+
+[[noreturn]] void throwAt(const std::string& path, bool gzip, const char* what, std::size_t index,
+                          std::uint64_t offset, const std::string& why, const std::string& details)
+{
+  throw RawlogError(path + ": " + what + " " + std::to_string(index) + " (byte offset " +
+                        std::to_string(offset) + (gzip ? " of the decompressed stream" : "") +
+                        "): " + why,
+                    details, index, offset);
+}
+}  // namespace
+
+std::size_t forEachRawlogObject(
+    const std::string& path,
+    const std::function<bool(const mrpt::serialization::CSerializable::Ptr&, std::uint64_t)>& visit,
+    const RawlogReadOptions& opts)
+{
+  const bool gzip = checkRawlogFile(path);
+  detail::ObjectReader reader(path, opts);
+  for (std::size_t n = 0;; n++)
+  {
+    const auto r = reader.next();
+    if (r.kind == detail::ObjectRead::Kind::Failed)
+      throwAt(path, gzip, "object", n, r.begin, r.reason, r.details);
+    if (r.kind == detail::ObjectRead::Kind::End) return n;
+    if (!visit(r.object, r.begin)) return n + 1;
+  }
+}
+
+std::size_t forEachRawlogEntry(const std::string& path,
+                               const std::function<bool(const RawlogEntry&)>& visit,
+                               const RawlogReadOptions& opts)
+{
+  const bool gzip = checkRawlogFile(path);
+  detail::ObjectReader reader(path, opts);
 
   std::size_t n = 0;
   mrpt::obs::CActionCollection::Ptr pending_actions;
-  auto fail = [&](const std::string& why) {
-    throw std::runtime_error(path + ": corrupt or truncated rawlog at entry " + std::to_string(n) +
-                             " (" + std::to_string(n) + " entries read before): " + why);
+  auto fail = [&](std::uint64_t offset, const std::string& why, const std::string& details = {}) {
+    throwAt(path, gzip, "entry", n, offset, why, details);
   };
   for (;;)
   {
-    mrpt::serialization::CSerializable::Ptr obj;
-    const uint64_t consumed_before = exact.consumed();
-    try
+    const auto r = reader.next();
+    if (r.kind == detail::ObjectRead::Kind::Failed) fail(r.begin, r.reason, r.details);
+    if (r.kind == detail::ObjectRead::Kind::End)
     {
-      obj = arch.ReadObject();
-    }
-    catch (const mrpt::serialization::CExceptionEOF&)
-    {
-      // MRPT throws EOF also for a nested object's missing header: a file cut
-      // there is truncated, not complete (found by tests on every cut length).
-      if (exact.consumed() != consumed_before) fail("the file ends inside an object");
-      if (pending_actions) fail("ends after an action collection without its sensory frame");
+      if (pending_actions)
+        fail(r.begin, "the file ends after an action collection without its sensory frame");
       break;
     }
-    catch (const std::exception& e)
-    {
-      fail(e.what());
-    }
+    const auto& obj = r.object;
     RawlogEntry entry;
     entry.index = n;
     if (auto acts = std::dynamic_pointer_cast<mrpt::obs::CActionCollection>(obj))
     {
-      if (pending_actions) fail("two action collections in a row");
+      if (pending_actions) fail(r.begin, "two action collections in a row");
       pending_actions = acts;
       continue;
     }
@@ -127,14 +141,14 @@ std::size_t forEachRawlogEntry(
     }
     else if (auto obs = std::dynamic_pointer_cast<mrpt::obs::CObservation>(obj))
     {
-      if (pending_actions) fail("an observation follows an action collection");
+      if (pending_actions) fail(r.begin, "an observation follows an action collection");
       entry.observations = mrpt::obs::CSensoryFrame::Create();
       entry.observations->insert(obs);
     }
     else
     {
-      fail(std::string("unexpected object of class ") +
-           (obj ? obj->GetRuntimeClass()->className : "null"));
+      fail(r.begin, std::string("unexpected object of class ") +
+                        (obj ? obj->GetRuntimeClass()->className : "null"));
     }
     n++;
     if (!visit(entry)) break;

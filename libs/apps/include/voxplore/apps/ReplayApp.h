@@ -17,6 +17,7 @@ struct ReplayOptions
   std::optional<bool> icp;  ///< overrides [icp] enabled
   std::size_t max_stops = 0;  ///< 0 = all
   bool quiet = false;
+  bool verbose = false;  ///< corrupt rawlog: MRPT's full message too (the error is one line)
 };
 
 /// @brief What a replay did.
@@ -29,7 +30,8 @@ struct ReplaySummary
   std::size_t relocalized = 0;    ///< stops whose pose was found again after a rejected ICP
   std::size_t skipped_cameras = 0;  ///< depth images skipped as faulty or missing, over all stops
   std::size_t warnings = 0;       ///< warnings printed (faulty cameras, odometry)
-  /// "end of rawlog", "max_stops" (--max-stops reached) or "interrupted" (SIGINT / SIGTERM)
+  /// "end of rawlog", "max_stops" (--max-stops reached), "interrupted" (SIGINT / SIGTERM) or
+  /// "rawlog error" (corrupt or truncated; execute() then throws after writing the outputs)
   std::string termination_reason = "end of rawlog";
   std::size_t degenerate = 0;     ///< stops with a degenerate direction
   std::size_t missing_odometry = 0;
