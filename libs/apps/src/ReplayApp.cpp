@@ -9,8 +9,6 @@
 #include <voxplore/eval/trajectory_error.h>
 #include <voxplore/mapping/SlamIcp.h>
 
-#include <fcntl.h>
-#include <unistd.h>
 
 #include <cstdio>
 #include <filesystem>
@@ -65,34 +63,6 @@ std::string classCounts(const std::map<std::string, std::size_t>& counts)
     first = false;
   }
   return counts.empty() ? "nothing" : os.str();
-}
-
-/// slam.saveOutputs(dir) without OctoMap's " done." on stderr (liboctomap's
-/// writeBinary prints it; an error must stay the only line there).
-void saveOutputsQuietly(const mapping::SlamIcp& slam, const std::string& dir)
-{
-  std::cerr.flush();
-  std::fflush(stderr);
-  const int saved = ::fcntl(STDERR_FILENO, F_DUPFD_CLOEXEC, 0);
-  const int devnull = ::open("/dev/null", O_WRONLY | O_CLOEXEC);
-  if (saved >= 0 && devnull >= 0) ::dup2(devnull, STDERR_FILENO);
-  auto restore = [&]() {
-    std::cerr.flush();
-    std::fflush(stderr);
-    if (saved >= 0 && devnull >= 0) ::dup2(saved, STDERR_FILENO);
-    if (saved >= 0) ::close(saved);
-    if (devnull >= 0) ::close(devnull);
-  };
-  try
-  {
-    slam.saveOutputs(dir);
-  }
-  catch (...)
-  {
-    restore();
-    throw;
-  }
-  restore();
 }
 
 void writeSummary(const ReplaySummary& s, const std::string& path)
@@ -263,7 +233,7 @@ ReplaySummary ReplayApp::execute(const ReplayOptions& opts)
   {
     progress.finish();
     if (slam.numStops() == 0) throw;
-    saveOutputsQuietly(slam, opts.out_dir);
+    slam.saveOutputs(opts.out_dir);
     throw std::runtime_error(std::string(e.what()) + " (the map of the " +
                              std::to_string(slam.numStops()) + " stops before it was written to " +
                              opts.out_dir + ")");
@@ -279,7 +249,7 @@ ReplaySummary ReplayApp::execute(const ReplayOptions& opts)
     throw std::runtime_error(opts.rawlog + ": no CObservation3DRangeScan with a range image in " +
                              std::to_string(s.entries) + " entries (found: " +
                              classCounts(other_classes) + "); voxplore needs depth images");
-  saveOutputsQuietly(slam, opts.out_dir);
+  slam.saveOutputs(opts.out_dir);
 
   double total_ms = 0;
   for (const auto& r : slam.reports())
