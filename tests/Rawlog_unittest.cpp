@@ -11,6 +11,9 @@
 #include <voxplore/sim/Simulator.h>
 
 #include <chrono>
+#include <condition_variable>
+#include <mutex>
+#include <thread>
 #include <filesystem>
 #include <iostream>
 #include <fstream>
@@ -297,6 +300,43 @@ TEST(Rawlog, MrptCrashReproducersAreOneLineErrorsNamingFileAndEntry)
       EXPECT_EQ(msg.find("bad_alloc"), std::string::npos) << msg;
     }
   }
+}
+
+// A caller with other threads gets a freshly started child (this program
+// again) instead of a fork: the same verdicts, the good entries all read.
+TEST(Rawlog, AMultiThreadedCallerIsStillProtected)
+{
+  std::mutex m;
+  std::condition_variable cv;
+  bool done = false;
+  std::thread busy([&] {
+    std::unique_lock<std::mutex> lock(m);
+    cv.wait(lock, [&] { return done; });
+  });
+  const auto good = tempPath("good_threads.rawlog");
+  writeSmallRawlog(good);
+  std::size_t entries = 0;
+  common::forEachRawlogEntry(good, [&](const common::RawlogEntry& e) {
+    EXPECT_TRUE(e.observations);
+    entries++;
+    return true;
+  });
+  EXPECT_GT(entries, 0u);
+  for (const auto& name : kReproducers)
+  {
+    std::size_t seen = 0;
+    const auto err = readError(reproducer(name), seen);
+    ASSERT_TRUE(err) << name << ": no error";
+    const std::string msg = err->what();
+    EXPECT_EQ(msg.find(reproducer(name) + ": entry 0 (byte offset 0): "), 0u) << msg;
+    EXPECT_TRUE(isMrptFault(msg)) << msg;
+  }
+  {
+    std::lock_guard<std::mutex> lock(m);
+    done = true;
+  }
+  cv.notify_one();
+  busy.join();
 }
 
 // The same bytes after good entries, plain and gzip: every good entry is

@@ -14,6 +14,7 @@
 #include <mrpt/obs/registerAllClasses.h>
 #include <mrpt/serialization/CArchive.h>
 #include <signal.h>
+#include <spawn.h>
 #include <sys/prctl.h>
 #include <sys/resource.h>
 #include <sys/time.h>
@@ -22,9 +23,12 @@
 
 #include <cerrno>
 #include <cstdio>
+#include <cstdlib>
 #include <cstring>
+#include <filesystem>
 #include <new>
 #include <stdexcept>
+#include <vector>
 
 // Set by ASan/UBSan (and libFuzzer through them); absent otherwise. The child
 // clears it so that a fault it survives by dying does not run the fuzzer's
@@ -296,6 +300,96 @@ std::string describeChildEnd(int status, const RawlogReadOptions& opts)
            limit + " limit)";
   return "the process deserializing it ended abnormally";
 }
+
+/// The environment variable that makes a fresh process the reader's child.
+constexpr const char* kChildEnv = "VOXPLORE_RAWLOG_CHILD";
+/// The pipe's write end in a spawned child.
+constexpr int kChildFd = 3;
+
+/// Threads of this process (/proc/self/task); 0 when it cannot be read.
+std::size_t threadCount()
+{
+  std::size_t n = 0;
+  std::error_code ec;
+  for (auto it = std::filesystem::directory_iterator("/proc/self/task", ec);
+       !ec && it != std::filesystem::directory_iterator(); it.increment(ec))
+    n++;
+  return n;
+}
+
+/// A multi-threaded caller's child: this program again (/proc/self/exe),
+/// started fresh with kChildEnv, so that no lock another thread held at
+/// fork() can deadlock it (seen under ASan: a forked child of a test that
+/// had run the simulator's ray-casting threads hung on a good file).
+/// The library constructor runChildIfAsked() turns it into childMain().
+/// @return the child's pid, or -1 with errno set
+pid_t spawnChild(const std::string& path, int write_fd, pid_t parent, const RawlogReadOptions& opts)
+{
+  std::error_code ec;
+  const auto exe = std::filesystem::read_symlink("/proc/self/exe", ec);
+  if (ec)
+  {
+    errno = ENOENT;
+    return -1;
+  }
+  const std::string var = std::string(kChildEnv) + "=" + std::to_string(parent) + ":" +
+                          std::to_string(opts.object_memory_mb) + ":" +
+                          std::to_string(opts.object_timeout_ms) + ":" +
+                          (opts.child_output ? "1" : "0") + ":" + path;
+  std::vector<char*> envp;
+  for (char** e = environ; e && *e; ++e)
+    if (std::strncmp(*e, kChildEnv, std::strlen(kChildEnv)) != 0) envp.push_back(*e);
+  envp.push_back(const_cast<char*>(var.c_str()));
+  envp.push_back(nullptr);
+  const std::string exe_path = exe.string();
+  char* argv[] = {const_cast<char*>(exe_path.c_str()), nullptr};
+  // dup2 onto kChildFd clears FD_CLOEXEC there, unless it is already that fd.
+  const int from = write_fd == kChildFd ? ::fcntl(write_fd, F_DUPFD_CLOEXEC, kChildFd + 1) : write_fd;
+  if (from < 0) return -1;
+  posix_spawn_file_actions_t fa;
+  posix_spawn_file_actions_init(&fa);
+  posix_spawn_file_actions_adddup2(&fa, from, kChildFd);
+  pid_t pid = -1;
+  const int err = ::posix_spawn(&pid, exe_path.c_str(), &fa, nullptr, argv, envp.data());
+  posix_spawn_file_actions_destroy(&fa);
+  if (from != write_fd) ::close(from);
+  if (err != 0)
+  {
+    errno = err;
+    return -1;
+  }
+  return pid;
+}
+
+/// In a process spawned by spawnChild(): be the child and never return to
+/// main(). Runs as a library constructor, before the program's own code.
+__attribute__((constructor)) void runChildIfAsked()
+{
+  const char* v = std::getenv(kChildEnv);
+  if (!v) return;
+  const std::string spec(v);
+  ::unsetenv(kChildEnv);
+  std::size_t at = 0;
+  const auto field = [&]() {
+    const std::size_t end = spec.find(':', at);
+    const std::string f = spec.substr(at, end == std::string::npos ? std::string::npos : end - at);
+    at = end == std::string::npos ? spec.size() : end + 1;
+    return f;
+  };
+  try
+  {
+    const pid_t parent = static_cast<pid_t>(std::stol(field()));
+    RawlogReadOptions opts;
+    opts.object_memory_mb = std::stoul(field());
+    opts.object_timeout_ms = static_cast<unsigned>(std::stoul(field()));
+    opts.child_output = field() == "1";
+    childMain(spec.substr(at), kChildFd, parent, opts);
+  }
+  catch (...)
+  {
+    ::_exit(2);  // a malformed request: the parent reports the child's end
+  }
+}
 }  // namespace
 
 // ---------------------------------------------------------------- the parent
@@ -315,7 +409,10 @@ struct ObjectReader::Impl
     if (::pipe2(p, O_CLOEXEC) != 0)
       throw std::runtime_error("cannot read '" + path + "': pipe: " + std::strerror(errno));
     const pid_t parent = ::getpid();
-    child = ::fork();
+    // fork() is cheap (the fuzzer reads thousands of files) and safe with one
+    // thread; with more, a fresh process (spawnChild).
+    const bool spawn = threadCount() > 1;
+    child = spawn ? spawnChild(path, p[1], parent, opts) : ::fork();
     if (child < 0)
     {
       const int err = errno;
@@ -323,7 +420,7 @@ struct ObjectReader::Impl
       ::close(p[1]);
       throw std::runtime_error("cannot read '" + path + "': fork: " + std::strerror(err));
     }
-    if (child == 0)
+    if (child == 0 && !spawn)
     {
       ::close(p[0]);
       childMain(path, p[1], parent, opts);

@@ -77,10 +77,12 @@ class RawlogError : public std::runtime_error
 ///        which is not safe on corrupt bytes (fuzz/README.md): with `isolate`,
 ///        a forked child process parses every object first, under the limits
 ///        below, and this process parses only objects the child read whole.
-///        Caveats of fork(): the child of a multi-threaded program runs MRPT
-///        and malloc while other threads' locks may be held (glibc's malloc
-///        is fork-safe; read before starting threads that hold MRPT locks),
-///        and the caller must not reap the child (waitpid(-1), SIGCHLD ignored).
+///        The child is a fork() of a single-threaded caller; a caller with
+///        more threads gets this program started afresh (/proc/self/exe with
+///        VOXPLORE_RAWLOG_CHILD set, taken over by a library constructor
+///        before main()), because a forked child can deadlock on a lock
+///        another thread held (seen under ASan). The caller must not reap
+///        the child (waitpid(-1), SIGCHLD ignored).
 struct RawlogReadOptions
 {
   bool isolate = true;  ///< parse in a forked child first (off: MRPT may crash us)
