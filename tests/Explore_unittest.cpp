@@ -226,3 +226,38 @@ TEST(Explore, FailureMidRunStillWritesTheMapsSoFar)
     EXPECT_TRUE(fs::is_regular_file(fs::path(out) / f)) << f;
   EXPECT_FALSE(fs::exists(fs::path(out) / "summary.json"));
 }
+
+TEST(Explore, RelativeNavlogDirIsInsideTheOutputDirectory)
+{
+  const auto dir = fs::path(outDir("navlog"));
+  fs::create_directories(dir);
+  // config/explore.ini with [navigation] navlog_dir = navlogs
+  std::ifstream in(VOXPLORE_SOURCE_DIR "/config/explore.ini");
+  std::ofstream ini(dir / "navlog.ini");
+  std::size_t replaced = 0;
+  for (std::string line; std::getline(in, line);)
+  {
+    if (line.rfind("navlog_dir", 0) == 0)
+    {
+      line = "navlog_dir = navlogs";
+      replaced++;
+    }
+    ini << line << "\n";
+  }
+  ini.close();
+  ASSERT_EQ(replaced, 1u) << "config/explore.ini has no [navigation] navlog_dir line";
+  auto o = options((dir / "out").string());
+  o.config = (dir / "navlog.ini").string();
+  o.max_steps = 1;
+  const auto s = apps::ExploreApp{}.execute(o);
+  ASSERT_GE(s.steps, 1u);
+  std::size_t logs = 0;
+  for (const auto& e : fs::directory_iterator(dir / "out" / "navlogs"))
+    logs += e.path().extension() == ".reactivenavlog" && fs::file_size(e.path()) > 0;
+  EXPECT_GE(logs, 1u) << "no navigation log in " << (dir / "out" / "navlogs");
+  EXPECT_FALSE(fs::exists(fs::current_path() / "navlogs")) << "written relative to the working directory";
+  // params.ini records where they went.
+  std::ifstream p(dir / "out" / "params.ini");
+  const std::string params((std::istreambuf_iterator<char>(p)), std::istreambuf_iterator<char>());
+  EXPECT_NE(params.find((dir / "out" / "navlogs").string()), std::string::npos);
+}

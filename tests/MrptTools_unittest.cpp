@@ -271,4 +271,37 @@ TEST(MrptTools, Observations2mapBuildsOctreeAndPointsMapFromOurSimplemap)
   EXPECT_GE(o2t.share, 0.97);
   EXPECT_GE(p2o.share, 0.90);
   EXPECT_GE(p2o2.share, 0.98);
+
+  // MRPT's sample config as it is: its 2D-laser point map (isPlanarMap =
+  // true) takes the keyframes' horizontal slices ([cloud] tools_slice_z_m).
+  const std::string stock = dir + "/stock";
+  fs::create_directories(stock);
+  std::ofstream(stock + "/octomap.ini") << readAll(kOctomapIni);
+  const auto log2 = stock + "/observations2map.log";
+  const std::string cmd2 = "cd '" + stock + "' && " + kObservations2map + " octomap.ini '" +
+                           simplemap + "' '" + stock + "/mrpt' > '" + log2 + "' 2>&1";
+  ASSERT_EQ(std::system(cmd2.c_str()), 0) << readAll(log2);
+  std::string pts2;
+  for (const auto& e : fs::directory_iterator(stock))
+    if (e.path().filename().string().find("CSimplePointsMap") != std::string::npos &&
+        e.path().extension() == ".txt")
+      pts2 = e.path();
+  ASSERT_FALSE(pts2.empty()) << "no CSimplePointsMap .txt written; log:\n" << readAll(log2);
+  const auto slice_pts = readXyzText(pts2);
+  ASSERT_GT(slice_pts.size(), 1000u) << "the stock ini's 2D point map is (nearly) empty";
+  // In the plane: each slice point against our occupied voxels above the floor.
+  std::vector<octomap::point3d> slice_2d, ours_2d;
+  double z_sum = 0;
+  for (const auto& p : slice_pts)
+  {
+    slice_2d.emplace_back(p.x(), p.y(), 0.0f);
+    z_sum += p.z();
+  }
+  for (const auto& p : our_above) ours_2d.emplace_back(p.x(), p.y(), 0.0f);
+  const auto s2o = agreement(slice_2d, ours_2d, res_ours);
+  std::cout << "[ observations2map, stock ini ] 2D point map " << slice_pts.size()
+            << " points at mean z " << z_sum / static_cast<double>(slice_pts.size())
+            << " m; within " << res_ours << " m of our occupied columns: " << s2o.share
+            << " (p90 " << s2o.p90_m << " m)" << std::endl;
+  EXPECT_GE(s2o.share, 0.95);
 }

@@ -181,7 +181,11 @@ int ExploreApp::run(int argc, const char* const* argv)
 
 ExploreSummary ExploreApp::execute(const ExploreOptions& opts)
 {
-  const ExploreConfig cfg = loadConfig(opts);
+  ExploreConfig cfg = loadConfig(opts);
+  // A relative navlog_dir lives in the run's output directory (one run's
+  // navigation logs beside its maps; parallel campaign runs never share it).
+  if (!cfg.driver.navlog_dir.empty() && fs::path(cfg.driver.navlog_dir).is_relative())
+    cfg.driver.navlog_dir = (fs::path(opts.out_dir) / cfg.driver.navlog_dir).string();
   std::optional<mrpt::poses::CPose2D> start;
   if (opts.start) start = sim::parseStartPose(*opts.start);
   if (opts.world.empty()) throw std::runtime_error("no world file given (--world)");

@@ -59,6 +59,11 @@ std::optional<CPose2D> SlamIcp::odometryOf(
 
 namespace
 {
+/// The keyframe slice for MRPT's 2D tools: 0.5 deg bearings (a 2D lidar's),
+/// cloud points within 5 cm of the slice height (one voxel either side).
+constexpr int kToolsSliceRays = 720;
+constexpr double kToolsSliceBand_m = 0.10;
+
 bool finitePose(const CPose2D& p)
 {
   return std::isfinite(p.x()) && std::isfinite(p.y()) && std::isfinite(p.phi());
@@ -167,6 +172,9 @@ void SlamIcp::integrateStop(
   if (params_.cloud.tools_cloud_cell_m > 0 && cloud.points.size() > 0)
     kf.insert(
         makeToolsCloud(cloud.points, params_.cloud.tools_cloud_cell_m, scans.front()->timestamp));
+  if (params_.cloud.tools_slice_z_m > 0 && cloud.points.size() > 0)
+    kf.insert(makeToolsSlice(cloud.points, params_.cloud.tools_slice_z_m, kToolsSliceBand_m,
+                             kToolsSliceRays, params_.cloud.max_range_m, scans.front()->timestamp));
   simplemap_.insert(mrpt::poses::CPose3DPDFGaussian(T_map_robot), kf);
 }
 

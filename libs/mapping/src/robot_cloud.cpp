@@ -18,6 +18,7 @@ void CloudParams::loadFromConfigFile(const mrpt::config::CConfigFileBase& c, con
   MRPT_LOAD_CONFIG_VAR(max_range_m, double, c, s);
   MRPT_LOAD_CONFIG_VAR(max_impossible_share, double, c, s);
   MRPT_LOAD_CONFIG_VAR(tools_cloud_cell_m, double, c, s);
+  MRPT_LOAD_CONFIG_VAR(tools_slice_z_m, double, c, s);
   common::requireValid(z_min_m < z_max_m, c, s, "z_min_m", "need z_min_m < z_max_m");
   common::requireValid(max_range_m > 0, c, s, "max_range_m", "must be positive");
   common::requireValid(max_impossible_share >= 0 && max_impossible_share <= 1, c, s,
@@ -25,6 +26,8 @@ void CloudParams::loadFromConfigFile(const mrpt::config::CConfigFileBase& c, con
   common::requireValid(
       tools_cloud_cell_m == 0 || (tools_cloud_cell_m >= 0.01 && tools_cloud_cell_m <= 1.0), c, s,
       "tools_cloud_cell_m", "must be 0 (off) or in [0.01, 1] m");
+  common::requireValid(tools_slice_z_m == 0 || (tools_slice_z_m > z_min_m && tools_slice_z_m < z_max_m),
+                       c, s, "tools_slice_z_m", "must be 0 (off) or between z_min_m and z_max_m");
 }
 
 void CloudParams::saveToConfigFile(mrpt::config::CConfigFileBase& c, const std::string& s) const
@@ -34,6 +37,7 @@ void CloudParams::saveToConfigFile(mrpt::config::CConfigFileBase& c, const std::
   MRPT_SAVE_CONFIG_VAR(max_range_m, c, s);
   MRPT_SAVE_CONFIG_VAR(max_impossible_share, c, s);
   MRPT_SAVE_CONFIG_VAR(tools_cloud_cell_m, c, s);
+  MRPT_SAVE_CONFIG_VAR(tools_slice_z_m, c, s);
 }
 
 mrpt::obs::CObservation3DRangeScan::Ptr makeToolsCloud(
@@ -75,6 +79,48 @@ mrpt::obs::CObservation3DRangeScan::Ptr makeToolsCloud(
   }
   obs->hasPoints3D = !keep.empty();
   return obs;
+}
+
+mrpt::obs::CObservation2DRangeScan::Ptr makeToolsSlice(
+    const mrpt::maps::CSimplePointsMap& robot_cloud, double z_m, double band_m, int rays,
+    double max_range_m, mrpt::Clock::time_point timestamp)
+{
+  ASSERTMSG_(rays >= 2 && z_m > 0 && band_m > 0 && max_range_m > 0,
+             "makeToolsSlice: need rays >= 2 and positive z_m, band_m, max_range_m");
+  auto scan = mrpt::obs::CObservation2DRangeScan::Create();
+  scan->sensorLabel = kToolsSliceLabel;
+  scan->timestamp = timestamp;
+  scan->sensorPose = mrpt::poses::CPose3D(0, 0, z_m, 0, 0, 0);
+  scan->rightToLeft = true;
+  // Ray i at -aperture/2 + i * aperture / (rays - 1): with this aperture the
+  // rays are 2 pi / rays apart and the first and last do not coincide.
+  const double step = 2.0 * M_PI / rays;
+  scan->aperture = static_cast<float>(step * (rays - 1));
+  scan->maxRange = static_cast<float>(max_range_m);
+  scan->stdError = 0.01f;
+  scan->resizeScan(static_cast<std::size_t>(rays));
+  std::vector<float> best(static_cast<std::size_t>(rays), std::numeric_limits<float>::infinity());
+  const auto& xs = robot_cloud.getPointsBufferRef_x();
+  const auto& ys = robot_cloud.getPointsBufferRef_y();
+  const auto& zs = robot_cloud.getPointsBufferRef_z();
+  const double first = -0.5 * step * (rays - 1);
+  for (std::size_t i = 0; i < xs.size(); i++)
+  {
+    if (std::abs(zs[i] - z_m) > 0.5 * band_m) continue;
+    const double r = std::hypot(xs[i], ys[i]);
+    if (!(r > 0) || r > max_range_m) continue;
+    const double a = std::atan2(ys[i], xs[i]);
+    const long k = std::lround((a - first) / step);
+    const auto bin = static_cast<std::size_t>(((k % rays) + rays) % rays);
+    best[bin] = std::min(best[bin], static_cast<float>(r));
+  }
+  for (std::size_t i = 0; i < best.size(); i++)
+  {
+    const bool valid = std::isfinite(best[i]);
+    scan->setScanRange(i, valid ? best[i] : static_cast<float>(max_range_m));
+    scan->setScanRangeValidity(i, valid);
+  }
+  return scan;
 }
 
 bool isToolsCloud(const mrpt::obs::CObservation3DRangeScan& obs)

@@ -4,6 +4,7 @@
 #include <mrpt/config/CLoadableOptions.h>
 #include <mrpt/core/Clock.h>
 #include <mrpt/maps/CSimplePointsMap.h>
+#include <mrpt/obs/CObservation2DRangeScan.h>
 #include <mrpt/obs/CObservation3DRangeScan.h>
 #include <mrpt/obs/CSensoryFrame.h>
 #include <mrpt/poses/CPose2D.h>
@@ -27,6 +28,11 @@ struct CloudParams : public mrpt::config::CLoadableOptions
   /// floor removed) thinned to one point per cube this big, for MRPT's
   /// tools (observations2map, ...): see makeToolsCloud(). 0: not added [m].
   double tools_cloud_cell_m = 0.10;
+  /// Each simplemap keyframe also carries a horizontal 360 deg slice of Q at
+  /// this height as a CObservation2DRangeScan, for MRPT's 2D tools (point
+  /// maps with isPlanarMap = true take nothing else): see makeToolsSlice().
+  /// 0: not added [m].
+  double tools_slice_z_m = 0.30;
 
   void loadFromConfigFile(const mrpt::config::CConfigFileBase& c, const std::string& s) override;
   void saveToConfigFile(mrpt::config::CConfigFileBase& c, const std::string& s) const override;
@@ -61,6 +67,21 @@ inline constexpr const char* kToolsCloudLabel = "VOXPLORE_CLOUD";
 mrpt::obs::CObservation3DRangeScan::Ptr makeToolsCloud(
     const mrpt::maps::CSimplePointsMap& robot_cloud, double cell_m,
     mrpt::Clock::time_point timestamp);
+
+/// @brief sensorLabel of the keyframe slice for MRPT's 2D tools (makeToolsSlice()).
+inline constexpr const char* kToolsSliceLabel = "VOXPLORE_SLICE";
+
+/// @brief The 2D laser scan a simplemap keyframe carries for MRPT's 2D tools:
+///        `rays` bearings over 360 deg from a sensor at (0, 0, z_m) on the
+///        robot, each the nearest point of `robot_cloud` within +-band_m / 2
+///        of z_m in its bearing bin (ranges in the plane), invalid where the
+///        bin holds none or it is beyond max_range_m. MRPT 2.5.8's point maps
+///        with isPlanarMap = true (the 2D-laser maps of its sample configs,
+///        e.g. icp-slam_demo_with_octomap.ini) insert only such scans.
+/// @param rays >= 2; z_m, band_m, max_range_m > 0
+mrpt::obs::CObservation2DRangeScan::Ptr makeToolsSlice(
+    const mrpt::maps::CSimplePointsMap& robot_cloud, double z_m, double band_m, int rays,
+    double max_range_m, mrpt::Clock::time_point timestamp);
 
 /// @brief True for the observation makeToolsCloud() makes (label
 ///        kToolsCloudLabel, points3D and no range image).
