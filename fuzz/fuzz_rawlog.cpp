@@ -56,6 +56,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   voxplore::common::RawlogReadOptions opts;
   opts.object_memory_mb = 32;
   opts.object_timeout_ms = 1000;
+  opts.fresh_child_when_threaded = false;  // libFuzzer's watchdog thread holds no lock the child needs
   try
   {
     std::size_t observations = 0;
@@ -79,8 +80,12 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     // The guard itself must work on every call: a pipe or fork that fails
     // (descriptors or processes leaking across calls) would otherwise hide
     // as an ordinary error and silently stop the fuzzing.
+    // Match the reader's own message from its start: the input's bytes can
+    // appear inside other messages (libFuzzer once wrote ": pipe: " into a
+    // corrupt string that MRPT's error quoted).
     const std::string msg = e.what();
-    if (msg.find(": pipe: ") != std::string::npos || msg.find(": fork: ") != std::string::npos)
+    const std::string own = "cannot read '" + path() + "': ";
+    if (msg.rfind(own + "pipe: ", 0) == 0 || msg.rfind(own + "fork: ", 0) == 0)
     {
       __builtin_trap();
     }

@@ -82,6 +82,7 @@ std::vector<Obj> parseObjects(const std::uint8_t* data, std::size_t size, bool& 
   voxplore::common::RawlogReadOptions opts;
   opts.object_memory_mb = 32;
   opts.object_timeout_ms = 1000;
+  opts.fresh_child_when_threaded = false;  // libFuzzer's watchdog thread holds no lock the child needs
   try
   {
     voxplore::common::forEachRawlogObject(

@@ -411,7 +411,7 @@ struct ObjectReader::Impl
     const pid_t parent = ::getpid();
     // fork() is cheap (the fuzzer reads thousands of files) and safe with one
     // thread; with more, a fresh process (spawnChild).
-    const bool spawn = threadCount() > 1;
+    const bool spawn = opts.fresh_child_when_threaded && threadCount() > 1;
     child = spawn ? spawnChild(path, p[1], parent, opts) : ::fork();
     if (child < 0)
     {
