@@ -34,6 +34,7 @@ void IcpParams::loadFromConfigFile(const mrpt::config::CConfigFileBase& c, const
   MRPT_LOAD_CONFIG_VAR(degeneracy_check, bool, c, s);
   MRPT_LOAD_CONFIG_VAR(degeneracy_ratio, double, c, s);
   MRPT_LOAD_CONFIG_VAR(odometry_prior_pairs, double, c, s);
+  MRPT_LOAD_CONFIG_VAR(odometry_prior_step_m, double, c, s);
   MRPT_LOAD_CONFIG_VAR(normal_radius_m, double, c, s);
   MRPT_LOAD_CONFIG_VAR(min_points, int, c, s);
   MRPT_LOAD_CONFIG_VAR(max_unconverged_step_m, double, c, s);
@@ -57,6 +58,7 @@ void IcpParams::loadFromConfigFile(const mrpt::config::CConfigFileBase& c, const
   requireValid(max_correction_xy_m > 0, c, s, "max_correction_xy_m", "must be positive");
   requireValid(max_correction_yaw > 0, c, s, "max_correction_yaw", "must be positive");
   requireValid(odometry_prior_pairs >= 0, c, s, "odometry_prior_pairs", "must be >= 0");
+  requireValid(odometry_prior_step_m > 0, c, s, "odometry_prior_step_m", "must be > 0");
   requireValid(degeneracy_ratio >= 0 && degeneracy_ratio < 1, c, s, "degeneracy_ratio",
                "must be in [0, 1)");
   requireValid(normal_radius_m > 0, c, s, "normal_radius_m", "must be positive");
@@ -90,6 +92,7 @@ void IcpParams::saveToConfigFile(mrpt::config::CConfigFileBase& c, const std::st
   MRPT_SAVE_CONFIG_VAR(degeneracy_check, c, s);
   MRPT_SAVE_CONFIG_VAR(degeneracy_ratio, c, s);
   MRPT_SAVE_CONFIG_VAR(odometry_prior_pairs, c, s);
+  MRPT_SAVE_CONFIG_VAR(odometry_prior_step_m, c, s);
   MRPT_SAVE_CONFIG_VAR(normal_radius_m, c, s);
   MRPT_SAVE_CONFIG_VAR(min_points, c, s);
   MRPT_SAVE_CONFIG_VAR(max_unconverged_step_m, c, s);

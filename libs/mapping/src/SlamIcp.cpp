@@ -105,7 +105,18 @@ void SlamIcp::registerStop(StopReport& rep, const RobotCloud& cloud, bool has_de
     rep.icp.reason = "metaview empty: pose from odometry, this stop starts the map";
   else
   {
-    rep.icp = alignPlanar(metaview_.footprint(), cloud.points, rep.predicted, params_.icp);
+    // The odometry prior holds its full weight for steps up to
+    // odometry_prior_step_m; a longer or turning step (odometry error grows
+    // with both; a turn counts by a 1 m lever) gets (step / length)^2 of it.
+    IcpParams icp = params_.icp;
+    if (icp.odometry_prior_pairs > 0)
+    {
+      const CPose2D step = rep.predicted - pose_;
+      const double len = std::hypot(step.x(), step.y()) + std::abs(step.phi()) * 1.0;
+      if (len > icp.odometry_prior_step_m)
+        icp.odometry_prior_pairs *= std::pow(icp.odometry_prior_step_m / len, 2);
+    }
+    rep.icp = alignPlanar(metaview_.footprint(), cloud.points, rep.predicted, icp);
     // ICP ran and was rejected: the prediction may be wrong (an odometry
     // jump). Search round it; accepted only when unambiguous.
     if (!rep.icp.accepted && params_.icp.enabled && params_.icp.relocalize &&

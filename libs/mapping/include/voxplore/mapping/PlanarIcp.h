@@ -34,6 +34,9 @@ struct IcpParams : public mrpt::config::CLoadableOptions
   /// max_points): where the walls say little (along a corridor) the
   /// prediction keeps the position, elsewhere the scene dominates. 0 = off.
   double odometry_prior_pairs = 0.0;
+  /// SlamIcp gives odometry_prior_pairs in full to steps up to this long
+  /// (translation + 1 m x turn); a longer step L gets (this / L)^2 of it [m].
+  double odometry_prior_step_m = 0.5;
   double normal_radius_m = 0.25;   ///< neighbourhood of the metaview line fits (normals, information matrix) [m]
   int min_points = 50;             ///< fewer cloud points: no ICP (keep odometry, flag)
   /// Stage 2 that has not converged within max_iterations is accepted only
