@@ -2,6 +2,7 @@
 // summary.json) and the ground-truth evaluation of a finished run.
 #include <mrpt/core/format.h>
 #include <mrpt/img/CImage.h>
+#include <mrpt/system/CTicTac.h>
 #include <octomap/OcTree.h>
 #include <voxplore/eval/map_accuracy.h>
 #include <voxplore/eval/trajectory_error.h>
@@ -235,7 +236,7 @@ void ExploreRun::finish()
   s_.failed_drives = status.failed_drives;
   s_.blacklisted = status.blacklisted;
 
-  const auto t0 = std::chrono::steady_clock::now();
+  mrpt::system::CTicTac tic;
   const double res = cfg_.slam.octomap.l_res_m;
   const mrpt::poses::CPose3D T_world_map3(T_world_map_);
   const auto ground =
@@ -282,7 +283,7 @@ void ExploreRun::finish()
   writeExploreSummary(s_, (dir / "summary.json").string());
   if (!quiet_)
     std::cout << mrpt::format("voxplore-explore: evaluation against ground truth took %.1f s",
-                              std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count())
+                              tic.Tac())
               << std::endl;
 }
 

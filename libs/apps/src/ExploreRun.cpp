@@ -2,8 +2,8 @@
 // 4.6) over the simulator, with the ground truth, the evaluation and the
 // outputs around it.
 #include <mrpt/core/format.h>
+#include <mrpt/system/CTicTac.h>
 
-#include <chrono>
 #include <cmath>
 #include <iostream>
 
@@ -14,14 +14,6 @@
 
 namespace voxplore::apps
 {
-namespace
-{
-double secondsSince(std::chrono::steady_clock::time_point t0)
-{
-  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-}
-}  // namespace
-
 ExploreRun::ExploreRun(
     sim::Simulator& sim, const ExploreConfig& cfg, std::string out_dir, bool quiet)
     : sim_(sim),
@@ -64,7 +56,7 @@ void ExploreRun::computeGroundTruthFloor(const Eigen::AlignedBox2d* region)
   // coverage_2d: the floor the robot's real footprint (the rotated rectangle
   // the simulator's collision checker tests) reaches from the start, over
   // position and yaw, plus the floor its cameras see from there (issue 10).
-  const auto t0 = std::chrono::steady_clock::now();
+  mrpt::system::CTicTac tic;
   const sim::Footprint footprint = cfg_.sim.robot.footprint();
   sim::FootprintReachParams fp;
   fp.res_m = cfg_.explore.gt_floor_res_m;
@@ -73,11 +65,11 @@ void ExploreRun::computeGroundTruthFloor(const Eigen::AlignedBox2d* region)
   gt_floor_ = sim::footprintReachableFloor(sim_.world(), sim_.checker(), T_world_map_, footprint,
                                            fp, region);
   gt_floor_.bins = {};  // the per-state masks are not needed after this (16 B per cell)
-  const double footprint_s = secondsSince(t0);
+  const double footprint_s = tic.Tac();
   // Beside it, the circles: the planner's collision radius r_coll + sqrt(2)
   // l_res (thesis eq. 4.4; a passage narrower than that is out of the
   // method's reach by design) and the bare circumcircle.
-  const auto t1 = std::chrono::steady_clock::now();
+  tic.Tic();
   const double r_planner =
       cfg_.planner.collision.r_coll_m + std::sqrt(2.0) * cfg_.slam.octomap.l_res_m;
   gt_floor_planner_ = sim::reachableFreeFloor(sim_.world(), sim_.checker(), T_world_map_, r_planner,
@@ -99,7 +91,7 @@ void ExploreRun::computeGroundTruthFloor(const Eigen::AlignedBox2d* region)
                    "planner circle %.1f m^2, circumradius %.1f m^2 took %.2f s",
                    s_.floor_reachable_m2, gt_floor_.reachable_area_m2, fp.yaw_bins,
                    fp.view_range_m, footprint_s, s_.floor_reachable_planner_circle_m2,
-                   s_.floor_reachable_circumradius_m2, secondsSince(t1))
+                   s_.floor_reachable_circumradius_m2, tic.Tac())
             << std::endl;
 }
 

@@ -4,12 +4,12 @@
 // (navigation::StopAndScanDriver).
 #include <mrpt/core/format.h>
 #include <mrpt/core/bits_math.h>
+#include <mrpt/system/CTicTac.h>
 #include <voxplore/common/config.h>
 #include <voxplore/mission/ExplorationLoop.h>
 #include <voxplore/navigation/StopAndScanDriver.h>
 
 #include <algorithm>
-#include <chrono>
 #include <cmath>
 #include <iterator>
 #include <limits>
@@ -28,10 +28,6 @@ struct RunStopped
   std::string reason;
 };
 
-double secondsSince(std::chrono::steady_clock::time_point t0)
-{
-  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-}
 }  // namespace
 
 void ExplorationLoopParams::loadFromConfigFile(const mrpt::config::CConfigFileBase& c,
@@ -132,8 +128,13 @@ const ExplorationStatus& ExplorationLoop::run()
     robot_.stop();
     status_.termination_reason = std::move(stop.reason);
   }
-  status_.elapsed_s = mrpt::Clock::toDouble(clock_.now()) - mrpt::Clock::toDouble(t_start_);
+  status_.elapsed_s = elapsedSeconds();
   return status_;
+}
+
+double ExplorationLoop::elapsedSeconds() const
+{
+  return mrpt::Clock::toDouble(clock_.now()) - mrpt::Clock::toDouble(t_start_);
 }
 
 std::string ExplorationLoop::limitReached(bool between_steps)
@@ -145,7 +146,7 @@ std::string ExplorationLoop::limitReached(bool between_steps)
   }
   if (between_steps && status_.steps >= static_cast<std::size_t>(params_.max_steps))
     return "max_steps";
-  status_.elapsed_s = mrpt::Clock::toDouble(clock_.now()) - mrpt::Clock::toDouble(t_start_);
+  status_.elapsed_s = elapsedSeconds();
   if (status_.elapsed_s >= params_.max_sim_time_s) return "max_sim_time";
   return {};
 }
@@ -160,10 +161,10 @@ void ExplorationLoop::loop()
       status_.termination_reason = std::move(reason);
       return;
     }
-    const auto t0 = std::chrono::steady_clock::now();
+    mrpt::system::CTicTac tic;
     const auto plan = exploration::plan(slam_.octomap().tree(), slam_.currentPose(), planner_,
                                         blacklist_, step, swept_);
-    const double plan_s = secondsSince(t0);
+    const double plan_s = tic.Tac();
     status_.compute_s += plan_s;
     status_.steps = step + 1;
     if (listener_) listener_->onPlan(plan, plan_s * 1e3, status_);
@@ -191,9 +192,9 @@ void ExplorationLoop::scanAndIntegrate()
   if (!scan.observations)
     throw std::runtime_error("ExplorationLoop: the scan source delivered no observations");
   if (listener_) listener_->onScan(scan);
-  const auto t0 = std::chrono::steady_clock::now();
+  mrpt::system::CTicTac tic;
   const auto rep = slam_.processStop(*scan.observations, scan.odometry, scan.timestamp);
-  const double dt = secondsSince(t0);
+  const double dt = tic.Tac();
   status_.compute_s += dt;
   status_.slam_ms_step += dt * 1e3;
   pose_at_stop_ = rep.pose;

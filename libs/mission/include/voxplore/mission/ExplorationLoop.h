@@ -198,6 +198,8 @@ class ExplorationLoop
   /// The listener's stop reason, max_steps (only `between_steps`), or the
   /// time limit; empty when the run goes on.
   std::string limitReached(bool between_steps);
+  /// Clock seconds since run() started.
+  double elapsedSeconds() const;
 
   navigation::RobotInterface& robot_;
   ScanSource& scans_;
