@@ -786,22 +786,6 @@ int exitCode(pid_t pid, double timeout_s)
   return WIFEXITED(st) ? WEXITSTATUS(st) : 128 + WTERMSIG(st);
 }
 
-std::string slurp(const std::string& path)
-{
-  std::ifstream f(path);
-  std::stringstream ss;
-  ss << f.rdbuf();
-  return ss.str();
-}
-
-std::size_t simplemapSize(const std::string& path)
-{
-  mrpt::maps::CSimpleMap sm;
-  mrpt::io::CFileGZInputStream in(path);
-  auto arch = mrpt::serialization::archiveFrom(in);
-  arch >> sm;
-  return sm.size();
-}
 }  // namespace
 
 TEST(Faults, SigintStopsVoxploreExploreWithCompleteLoadableOutputs)
@@ -818,10 +802,10 @@ TEST(Faults, SigintStopsVoxploreExploreWithCompleteLoadableOutputs)
   ASSERT_GT(pid, 0);
   const bool ready = waitFor(pid, [&] { return fs::exists(out + "/steps/step_002.png"); }, 120);
   if (!ready) stopChild(pid);
-  ASSERT_TRUE(ready) << slurp(log);
+  ASSERT_TRUE(ready) << test::readFile(log);
   kill(pid, SIGINT);
   const int code = exitCode(pid, 120);
-  const std::string text = slurp(log);
+  const std::string text = test::readFile(log);
   EXPECT_EQ(code, apps::kExitInterrupted) << text;
   EXPECT_NE(text.find("interrupted"), std::string::npos) << text;
 
@@ -834,7 +818,7 @@ TEST(Faults, SigintStopsVoxploreExploreWithCompleteLoadableOutputs)
   octomap::OcTree tree(out + "/map.bt");
   EXPECT_GT(tree.getNumLeafNodes(), 1000u);
   // Keyframes: the stops that entered the map (flagged ones do not).
-  EXPECT_EQ(simplemapSize(out + "/map.simplemap"), stops - sum["flagged_stops"].get<std::size_t>());
+  EXPECT_EQ(test::loadSimplemap(out + "/map.simplemap").size(), stops - sum["flagged_stops"].get<std::size_t>());
   std::size_t entries = 0;
   common::forEachRawlogEntry(out + "/run.rawlog", [&](const common::RawlogEntry&) {
     entries++;
@@ -859,12 +843,12 @@ TEST(Faults, SigintStopsVoxploreReplayWithCompleteLoadableOutputs)
                            recorded(), "--out", out},
                           log);
   ASSERT_GT(pid, 0);
-  const bool ready = waitFor(pid, [&] { return slurp(log).find("stop 3") != std::string::npos; }, 60);
+  const bool ready = waitFor(pid, [&] { return test::readFile(log).find("stop 3") != std::string::npos; }, 60);
   if (!ready) stopChild(pid);
-  ASSERT_TRUE(ready) << slurp(log);
+  ASSERT_TRUE(ready) << test::readFile(log);
   kill(pid, SIGINT);
   const int code = exitCode(pid, 60);
-  EXPECT_EQ(code, apps::kExitInterrupted) << slurp(log);
+  EXPECT_EQ(code, apps::kExitInterrupted) << test::readFile(log);
   const auto sum = readJson(fs::path(out) / "summary.json");
   EXPECT_EQ(sum["termination_reason"].get<std::string>(), "interrupted");
   const auto stops = sum["stops"].get<std::size_t>();
@@ -872,7 +856,7 @@ TEST(Faults, SigintStopsVoxploreReplayWithCompleteLoadableOutputs)
   EXPECT_LT(stops, 49u);
   octomap::OcTree tree(out + "/map.bt");
   EXPECT_GT(tree.getNumLeafNodes(), 100u);
-  EXPECT_EQ(simplemapSize(out + "/map.simplemap"), sum["integrated"].get<std::size_t>());
+  EXPECT_EQ(test::loadSimplemap(out + "/map.simplemap").size(), sum["integrated"].get<std::size_t>());
   EXPECT_EQ(common::readTum(out + "/trajectory_est.tum").size(), stops);
   EXPECT_TRUE(sum.contains("ate_rmse_m"));
 }
@@ -930,7 +914,7 @@ TEST(Faults, UnwritableOutputDirectoryIsANamedErrorForEveryApp)
     const int code = exitCode(spawn(argv, log), 120);
     EXPECT_NE(code, 0) << app;
     EXPECT_NE(code, -1) << app << " hung";
-    EXPECT_NE(slurp(log).find(bad), std::string::npos) << app << ": " << slurp(log);
+    EXPECT_NE(test::readFile(log).find(bad), std::string::npos) << app << ": " << test::readFile(log);
   }
 }
 

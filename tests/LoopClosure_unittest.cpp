@@ -370,12 +370,7 @@ TEST(LoopClosure, RingCorridorReplayClosesTheLoopAndCorrectsEveryOutput)
   }
   EXPECT_GE(closed, 1u);
   // trajectory_est.tum, stops.csv and the simplemap's keyframes agree (all corrected).
-  mrpt::maps::CSimpleMap sm;
-  {
-    mrpt::io::CFileGZInputStream in(dir + "/rep/map.simplemap");
-    auto a = mrpt::serialization::archiveFrom(in);
-    a >> sm;
-  }
+  mrpt::maps::CSimpleMap sm = voxplore::test::loadSimplemap(dir + "/rep/map.simplemap");
   std::size_t kf = 0;
   for (std::size_t k = 0; k < rows.size(); k++)
   {

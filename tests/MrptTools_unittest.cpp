@@ -123,13 +123,6 @@ std::vector<octomap::point3d> readXyzText(const std::string& path)
   return out;
 }
 
-std::string readAll(const std::string& path)
-{
-  std::ifstream f(path);
-  std::stringstream ss;
-  ss << f.rdbuf();
-  return ss.str();
-}
 }  // namespace
 
 TEST(MrptTools, ToolsCloudChangesNothingInOurMapping)
@@ -191,13 +184,7 @@ TEST(MrptTools, Observations2mapBuildsOctreeAndPointsMapFromOurSimplemap)
   const auto s = apps::ReplayApp{}.execute(o);
   const auto simplemap = o.out_dir + "/map.simplemap";
   ASSERT_TRUE(fs::exists(simplemap));
-  std::size_t keyframes = 0;
-  {
-    mrpt::maps::CSimpleMap sm;
-    mrpt::io::CFileGZInputStream in(simplemap);
-    mrpt::serialization::archiveFrom(in) >> sm;
-    keyframes = sm.size();
-  }
+  const std::size_t keyframes = test::loadSimplemap(simplemap).size();
   ASSERT_GT(keyframes, 0u);
   std::cout << "[ simplemap ] " << keyframes << " keyframes of " << s.stops << " stops, "
             << fs::file_size(simplemap) << " bytes (" << fs::file_size(simplemap) / keyframes
@@ -207,7 +194,7 @@ TEST(MrptTools, Observations2mapBuildsOctreeAndPointsMapFromOurSimplemap)
   // point map is a 2D-laser map (isPlanarMap = true), into which MRPT 2.5.8
   // inserts no CObservation3DRangeScan at all (measured), so it is made 3D.
   {
-    std::string ini = readAll(kOctomapIni);
+    std::string ini = test::readFile(kOctomapIni);
     const std::string planar = "isPlanarMap                 = true";
     const auto at = ini.find(planar);
     ASSERT_NE(at, std::string::npos) << kOctomapIni << " changed: no '" << planar << "'";
@@ -218,9 +205,9 @@ TEST(MrptTools, Observations2mapBuildsOctreeAndPointsMapFromOurSimplemap)
   const auto t0 = std::chrono::steady_clock::now();
   const std::string cmd = "cd '" + dir + "' && " + kObservations2map + " octomap.ini '" +
                           simplemap + "' '" + dir + "/mrpt' > '" + log + "' 2>&1";
-  ASSERT_EQ(std::system(cmd.c_str()), 0) << readAll(log);
+  ASSERT_EQ(std::system(cmd.c_str()), 0) << test::readFile(log);
   const double secs = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-  const std::string text = readAll(log);
+  const std::string text = test::readFile(log);
   EXPECT_EQ(text.find("Writing 0 nodes"), std::string::npos) << text;
 
   std::string bt, pts;
@@ -276,17 +263,17 @@ TEST(MrptTools, Observations2mapBuildsOctreeAndPointsMapFromOurSimplemap)
   // true) takes the keyframes' horizontal slices ([cloud] tools_slice_z_m).
   const std::string stock = dir + "/stock";
   fs::create_directories(stock);
-  std::ofstream(stock + "/octomap.ini") << readAll(kOctomapIni);
+  std::ofstream(stock + "/octomap.ini") << test::readFile(kOctomapIni);
   const auto log2 = stock + "/observations2map.log";
   const std::string cmd2 = "cd '" + stock + "' && " + kObservations2map + " octomap.ini '" +
                            simplemap + "' '" + stock + "/mrpt' > '" + log2 + "' 2>&1";
-  ASSERT_EQ(std::system(cmd2.c_str()), 0) << readAll(log2);
+  ASSERT_EQ(std::system(cmd2.c_str()), 0) << test::readFile(log2);
   std::string pts2;
   for (const auto& e : fs::directory_iterator(stock))
     if (e.path().filename().string().find("CSimplePointsMap") != std::string::npos &&
         e.path().extension() == ".txt")
       pts2 = e.path();
-  ASSERT_FALSE(pts2.empty()) << "no CSimplePointsMap .txt written; log:\n" << readAll(log2);
+  ASSERT_FALSE(pts2.empty()) << "no CSimplePointsMap .txt written; log:\n" << test::readFile(log2);
   const auto slice_pts = readXyzText(pts2);
   ASSERT_GT(slice_pts.size(), 1000u) << "the stock ini's 2D point map is (nearly) empty";
   // In the plane: each slice point against our occupied voxels above the floor.

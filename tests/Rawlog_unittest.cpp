@@ -216,12 +216,6 @@ TEST(Rawlog, EveryCutInsideTheLastEntryIsAnError)
 
 namespace
 {
-std::string slurpBytes(const std::string& path)
-{
-  std::ifstream in(path, std::ios::binary);
-  return std::string((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-}
-
 std::string reproducer(const std::string& name)
 {
   return test::sourceDir() + "/fuzz/mrpt_crashes/" + name + ".rawlog";
@@ -345,12 +339,12 @@ TEST(Rawlog, GoodEntriesThenMrptCrashReproducerStopsExactlyThere)
 {
   const auto good = tempPath("good_prefix.rawlog");
   writeSmallRawlog(good);
-  const std::string prefix = slurpBytes(good);
+  const std::string prefix = test::readFile(good);
   for (const auto& name : kReproducers)
   {
     for (const bool gzip : {false, true})
     {
-      const std::string plain = prefix + slurpBytes(reproducer(name));
+      const std::string plain = prefix + test::readFile(reproducer(name));
       std::vector<std::uint8_t> bytes(plain.begin(), plain.end());
       if (gzip)
       {

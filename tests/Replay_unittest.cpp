@@ -114,11 +114,7 @@ TEST(Replay, WritesLoadableOutputs)
   for (const char* f : {"map.bt", "map.simplemap", "metaview.ply", "trajectory_est.tum", "stops.csv",
                         "params.ini", "summary.json"})
     EXPECT_TRUE(fs::is_regular_file(fs::path(dir) / f)) << f;
-  mrpt::maps::CSimpleMap sm;
-  mrpt::io::CFileGZInputStream in(dir + "/map.simplemap");
-  auto arch = mrpt::serialization::archiveFrom(in);
-  arch >> sm;
-  EXPECT_EQ(sm.size(), 49u);
+  EXPECT_EQ(test::loadSimplemap(dir + "/map.simplemap").size(), 49u);
   EXPECT_EQ(common::readTum(dir + "/trajectory_est.tum").size(), 49u);
   std::ifstream csv(dir + "/stops.csv");
   std::size_t lines = 0;
@@ -232,12 +228,6 @@ namespace
 {
 std::string replayBin() { return std::string(VOXPLORE_BIN_DIR) + "/voxplore-replay"; }
 
-std::string slurp(const std::string& path)
-{
-  std::ifstream in(path, std::ios::binary);
-  return std::string((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-}
-
 struct RunResult
 {
   int exit_code = -1;
@@ -253,8 +243,8 @@ RunResult runReplay(const std::string& rawlog, const std::string& out_dir, const
   const int status = std::system(cmd.c_str());
   RunResult r;
   r.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
-  r.out = slurp(out_dir + ".stdout");
-  r.err = slurp(out_dir + ".stderr");
+  r.out = test::readFile(out_dir + ".stdout");
+  r.err = test::readFile(out_dir + ".stderr");
   return r;
 }
 
@@ -276,14 +266,6 @@ std::size_t lineCount(const std::string& text)
   return static_cast<std::size_t>(std::count(text.begin(), text.end(), '\n'));
 }
 
-std::size_t simplemapEntries(const std::string& path)
-{
-  mrpt::maps::CSimpleMap sm;
-  mrpt::io::CFileGZInputStream in(path);
-  auto arch = mrpt::serialization::archiveFrom(in);
-  arch >> sm;
-  return sm.size();
-}
 }  // namespace
 
 TEST(Replay, CorruptTailEndsInOneErrorLineWithTheMapsOfTheGoodStops)
@@ -296,9 +278,9 @@ TEST(Replay, CorruptTailEndsInOneErrorLineWithTheMapsOfTheGoodStops)
   ASSERT_EQ(ref.exit_code, 0) << ref.err;
   ASSERT_EQ(common::readTum(ref_dir + "/trajectory_est.tum").size(), 3u);
 
-  const std::string bytes = slurp(good);
+  const std::string bytes = test::readFile(good);
   const auto four_path = recordedPrefix(4);
-  const std::string four = slurp(four_path);
+  const std::string four = test::readFile(four_path);
   ASSERT_GT(four.size(), bytes.size() + 100);
   // entry 3 is (actions, sensory frame): the cut below falls in the frame
   std::uint64_t frame3 = 0;
@@ -314,9 +296,9 @@ TEST(Replay, CorruptTailEndsInOneErrorLineWithTheMapsOfTheGoodStops)
     std::uint64_t offset;  ///< where the object that cannot be read starts
   };
   const std::vector<Case> cases = {
-      {"null_deref", slurp(src + "null_deref_CActionRobotMovement2D.rawlog"), "MRPT ", good_size},
-      {"huge_string", slurp(src + "huge_alloc_string.rawlog"), "", good_size},
-      {"huge_matrix", slurp(src + "huge_alloc_CMatrixDynamic.rawlog"), "", good_size},
+      {"null_deref", test::readFile(src + "null_deref_CActionRobotMovement2D.rawlog"), "MRPT ", good_size},
+      {"huge_string", test::readFile(src + "huge_alloc_string.rawlog"), "", good_size},
+      {"huge_matrix", test::readFile(src + "huge_alloc_CMatrixDynamic.rawlog"), "", good_size},
       {"garbage", "\x85XXXXX and more garbage", "corrupt object: ", good_size},
       {"truncated", four.substr(bytes.size(), (frame3 - bytes.size()) + (four.size() - frame3) / 2),
        "the file ends inside an object (truncated)", frame3}};
@@ -337,13 +319,14 @@ TEST(Replay, CorruptTailEndsInOneErrorLineWithTheMapsOfTheGoodStops)
         << r.err;
     EXPECT_EQ(r.err.find("backtrace"), std::string::npos) << r.err;
     // the good stops' outputs, as a clean replay of them writes them
-    EXPECT_EQ(slurp(dir + "/trajectory_est.tum"), slurp(ref_dir + "/trajectory_est.tum"));
-    EXPECT_EQ(slurp(dir + "/map.bt"), slurp(ref_dir + "/map.bt"));
+    EXPECT_EQ(test::readFile(dir + "/trajectory_est.tum"), test::readFile(ref_dir + "/trajectory_est.tum"));
+    EXPECT_EQ(test::readFile(dir + "/map.bt"), test::readFile(ref_dir + "/map.bt"));
     octomap::OcTree tree(dir + "/map.bt");
     EXPECT_GT(tree.getNumLeafNodes(), 100u);
-    EXPECT_EQ(simplemapEntries(dir + "/map.simplemap"), simplemapEntries(ref_dir + "/map.simplemap"));
-    EXPECT_EQ(lineCount(slurp(dir + "/stops.csv")), 4u);  // header + 3 stops
-    const auto summary = slurp(dir + "/summary.json");
+    EXPECT_EQ(test::loadSimplemap(dir + "/map.simplemap").size(),
+              test::loadSimplemap(ref_dir + "/map.simplemap").size());
+    EXPECT_EQ(lineCount(test::readFile(dir + "/stops.csv")), 4u);  // header + 3 stops
+    const auto summary = test::readFile(dir + "/summary.json");
     EXPECT_NE(summary.find("\"termination_reason\": \"rawlog error\""), std::string::npos) << summary;
     EXPECT_NE(summary.find("\"stops\": 3,"), std::string::npos) << summary;
   }
@@ -369,7 +352,7 @@ TEST(Replay, VerboseAddsMrptsWholeMessageBeforeTheErrorLine)
 {
   if (!fs::exists(replayBin())) GTEST_SKIP() << "not built: " << replayBin();
   const auto path = tmp("verbose_garbage.rawlog");
-  std::ofstream(path, std::ios::binary) << slurp(recordedPrefix(3)) << "\x85XXXXX and more garbage";
+  std::ofstream(path, std::ios::binary) << test::readFile(recordedPrefix(3)) << "\x85XXXXX and more garbage";
   const auto quiet = runReplay(path, tmp("replay_verbose"), "--quiet");
   const auto verbose = runReplay(path, tmp("replay_verbose"), "--quiet --verbose");
   EXPECT_EQ(quiet.exit_code, 1);

@@ -33,12 +33,6 @@ std::string writeFile(const std::string& name, const std::string& text)
   return p;
 }
 
-std::string readAll(const std::string& path)
-{
-  std::ifstream f(path, std::ios::binary);
-  return {std::istreambuf_iterator<char>(f), std::istreambuf_iterator<char>()};
-}
-
 apps::SimOptions shortTour(const std::string& out, int seed)
 {
   apps::SimOptions o;
@@ -102,8 +96,8 @@ TEST(SimApp, RawlogEditReadsOurRawlog)
   const auto log = tmp("rawlog_edit_info.txt");
   const std::string cmd =
       "rawlog-edit --info -i '" + o.out_dir + "/run.rawlog' > '" + log + "' 2>&1";
-  ASSERT_EQ(std::system(cmd.c_str()), 0) << readAll(log);
-  const auto text = readAll(log);
+  ASSERT_EQ(std::system(cmd.c_str()), 0) << test::readFile(log);
+  const auto text = test::readFile(log);
   EXPECT_NE(text.find("Actions/SensoryFrame format       : Yes"), std::string::npos) << text;
   EXPECT_NE(text.find("CAM0, CAM1, CAM2, CAM3, CAM4, CAM5, CAM6, CAM7, ODOMETRY"),
             std::string::npos)
@@ -116,12 +110,12 @@ TEST(SimApp, SameSeedSameRunDifferentSeedDifferentRun)
   apps::SimApp{}.execute(shortTour("sim_seed_a", 7));
   apps::SimApp{}.execute(shortTour("sim_seed_b", 7));
   apps::SimApp{}.execute(shortTour("sim_seed_c", 8));
-  const auto a = readAll(tmp("sim_seed_a") + "/run.rawlog");
+  const auto a = test::readFile(tmp("sim_seed_a") + "/run.rawlog");
   EXPECT_FALSE(a.empty());
-  EXPECT_EQ(a, readAll(tmp("sim_seed_b") + "/run.rawlog"));
-  EXPECT_NE(a, readAll(tmp("sim_seed_c") + "/run.rawlog"));
-  EXPECT_EQ(readAll(tmp("sim_seed_a") + "/trajectory_gt.tum"),
-            readAll(tmp("sim_seed_b") + "/trajectory_gt.tum"));
+  EXPECT_EQ(a, test::readFile(tmp("sim_seed_b") + "/run.rawlog"));
+  EXPECT_NE(a, test::readFile(tmp("sim_seed_c") + "/run.rawlog"));
+  EXPECT_EQ(test::readFile(tmp("sim_seed_a") + "/trajectory_gt.tum"),
+            test::readFile(tmp("sim_seed_b") + "/trajectory_gt.tum"));
 }
 
 TEST(SimApp, StartInsideAnObstacleNamesTheWorldFile)
@@ -243,7 +237,7 @@ TEST(SimApp, SigintStopsMrptSimWithAReadableRawlog)
     }
     std::this_thread::sleep_for(std::chrono::milliseconds(20));
   }
-  ASSERT_FALSE(exited) << "mrpt-sim exited before the signal:\n" << readAll(log);
+  ASSERT_FALSE(exited) << "mrpt-sim exited before the signal:\n" << test::readFile(log);
   kill(pid, SIGINT);
   while (waitpid(pid, &st, WNOHANG) != pid &&
          std::chrono::steady_clock::now() - t0 < std::chrono::seconds(240))
@@ -252,9 +246,9 @@ TEST(SimApp, SigintStopsMrptSimWithAReadableRawlog)
   {
     kill(pid, SIGKILL);
     waitpid(pid, &st, 0);
-    FAIL() << "mrpt-sim did not stop after SIGINT:\n" << readAll(log);
+    FAIL() << "mrpt-sim did not stop after SIGINT:\n" << test::readFile(log);
   }
-  const std::string text = readAll(log);
+  const std::string text = test::readFile(log);
   ASSERT_TRUE(WIFEXITED(st)) << "killed by signal " << WTERMSIG(st) << "\n" << text;
   EXPECT_EQ(WEXITSTATUS(st), apps::kExitInterrupted) << text;
   EXPECT_NE(text.find("mrpt-sim: interrupted after"), std::string::npos) << text;

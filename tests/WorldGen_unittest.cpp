@@ -36,12 +36,6 @@ std::string tmpDir(const std::string& name)
   return d;
 }
 
-std::string readAll(const fs::path& p)
-{
-  std::ifstream f(p, std::ios::binary);
-  return {std::istreambuf_iterator<char>(f), std::istreambuf_iterator<char>()};
-}
-
 /// Generates seed `seed` into a fresh folder and loads it back.
 sim::World generateAndLoad(const sim::WorldGenParams& p, uint64_t seed, sim::GeneratedBuilding& b)
 {
@@ -145,12 +139,12 @@ TEST(WorldGen, SameSeedSameFilesByteForByte)
   apps::WorldGenApp{}.execute(o);
   for (const char* f : {"building.world", "building.json"})
   {
-    EXPECT_FALSE(readAll(fs::path(a) / f).empty());
-    EXPECT_EQ(readAll(fs::path(a) / f), readAll(fs::path(b) / f)) << f;
-    EXPECT_NE(readAll(fs::path(a) / f), readAll(fs::path(c) / f)) << f;
+    EXPECT_FALSE(test::readFile(fs::path(a) / f).empty());
+    EXPECT_EQ(test::readFile(fs::path(a) / f), test::readFile(fs::path(b) / f)) << f;
+    EXPECT_NE(test::readFile(fs::path(a) / f), test::readFile(fs::path(c) / f)) << f;
   }
   // The ground truth parses and tells the layout, the area and the doors.
-  const auto truth = nlohmann::json::parse(readAll(fs::path(a) / "building.json"));
+  const auto truth = nlohmann::json::parse(test::readFile(fs::path(a) / "building.json"));
   EXPECT_EQ(truth.at("seed").get<int>(), 5);
   EXPECT_GT(truth.at("floor_area_m2").get<double>(), 100.0);
   EXPECT_FALSE(truth.at("doors").empty());

@@ -1,11 +1,16 @@
-/* voxplore tests — small worlds built in code and data paths. */
+/* voxplore tests — small worlds built in code, data paths, and file readers. */
 #pragma once
 
+#include <mrpt/io/CFileGZInputStream.h>
+#include <mrpt/maps/CSimpleMap.h>
+#include <mrpt/serialization/CArchive.h>
 #include <voxplore/sim/World.h>
 
 #include <unistd.h>
 
 #include <filesystem>
+#include <fstream>
+#include <iterator>
 #include <string>
 
 namespace voxplore::test
@@ -23,6 +28,23 @@ inline std::string tempPath(const std::string& name)
                    ("voxplore_test_" + std::to_string(::getpid()));
   std::filesystem::create_directories(dir);
   return (dir / name).string();
+}
+
+/// @brief The whole file, byte for byte (empty when it cannot be read).
+inline std::string readFile(const std::string& path)
+{
+  std::ifstream in(path, std::ios::binary);
+  return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
+}
+
+/// @brief A .simplemap (plain or gzip) as MRPT loads it.
+/// @throws std::exception from MRPT on a bad file.
+inline mrpt::maps::CSimpleMap loadSimplemap(const std::string& path)
+{
+  mrpt::maps::CSimpleMap sm;
+  mrpt::io::CFileGZInputStream in(path);
+  mrpt::serialization::archiveFrom(in) >> sm;
+  return sm;
 }
 
 /// @brief A closed box room [0, sx] x [0, sy] x [0, sz] built from six
