@@ -9,8 +9,6 @@
 #include <voxplore/eval/trajectory_error.h>
 #include <voxplore/mapping/SlamIcp.h>
 
-
-#include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <iostream>
@@ -239,9 +237,12 @@ ReplaySummary ReplayApp::execute(const ReplayOptions& opts)
                              opts.out_dir + ")");
   }
   progress.finish();
-  if (read_error && s.stops == 0)
-    throw common::RawlogError(std::string(read_error->what()) + "; no stop before it, nothing written",
+  // The reader's error, with what was written before it.
+  const auto rethrowReadError = [&](const std::string& what_was_written) {
+    throw common::RawlogError(std::string(read_error->what()) + what_was_written,
                               read_error->details(), read_error->entry(), read_error->byteOffset());
+  };
+  if (read_error && s.stops == 0) rethrowReadError("; no stop before it, nothing written");
   if (s.stops == 0 && s.termination_reason == "interrupted")
     throw std::runtime_error("interrupted before the first stop of " + opts.rawlog +
                              "; nothing written");
@@ -283,10 +284,9 @@ ReplaySummary ReplayApp::execute(const ReplayOptions& opts)
   }
   writeSummary(s, (fs::path(opts.out_dir) / "summary.json").string());
   if (read_error)
-    throw common::RawlogError(std::string(read_error->what()) + " (the outputs of the " +
-                                  (s.stops == 1 ? std::string("stop") : std::to_string(s.stops) + " stops") +
-                                  " before it are in " + opts.out_dir + ")",
-                              read_error->details(), read_error->entry(), read_error->byteOffset());
+    rethrowReadError(" (the outputs of the " +
+                     (s.stops == 1 ? std::string("stop") : std::to_string(s.stops) + " stops") +
+                     " before it are in " + opts.out_dir + ")");
   return s;
 }
 
