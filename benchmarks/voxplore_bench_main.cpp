@@ -4,6 +4,7 @@
 //   slam              table 5.1 (d_min sweep) and the table 5.2 row "integration into V"
 //   slam-dmin         table 5.1 only
 //   slam-integration  the table 5.2 row only (poses: ICP replay at d_min 20 mm, or --poses gt)
+//   registration      each stop's ICP alone: against the ground-truth map of the stops before it
 //   planner           table 5.2's planner rows (projection ... path) beside the naive scan rating
 //   all               every set above
 //   strategies        exploration end to end, nbv beside nearest on every world (issue 5;
@@ -24,6 +25,7 @@
 #include "bench_planner.h"
 #include "bench_slam.h"
 #include "bench_strategies.h"
+#include "bench_registration.h"
 #include "bench_table.h"
 
 using namespace voxplore;
@@ -38,7 +40,9 @@ const char* kDescription =
     "OctoMapLayer::insertScan vs OcTree::insertPointCloud); 'slam-dmin' and "
     "'slam-integration' run one of them; 'planner' = table 5.2's planner rows; 'strategies' = "
     "voxplore-explore on every world with --strategy nbv beside nearest (steps, travel, "
-    "coverage, compute time; shared worlds from simulated_worlds/shared_world_starts.txt). Run it "
+    "coverage, compute time; shared worlds from simulated_worlds/shared_world_starts.txt); "
+    "'registration' = each stop's ICP alone, against the ground-truth map of the stops before "
+    "it (--rawlog, --gt, --stops, --config). Run it "
     "pinned to one core in a Release build: "
     "taskset -c 1 build/bin/voxplore-bench";
 
@@ -102,6 +106,8 @@ std::vector<TableSet> tables()
        }},
       {"strategies", [](const BenchOptions& o, std::ostream& out)
        { bench::runStrategiesTable(o.strategies, out); }},
+      {"registration", [](const BenchOptions& o, std::ostream& out)
+       { bench::runRegistrationTable(bench::loadSlamBenchData(o.slam), o.slam, out); }},
   };
 }
 

@@ -169,3 +169,62 @@ TEST(PlanarIcp, CorridorIsDegenerateAlongItsAxisAndKeepsOdometryThere)
   EXPECT_FALSE(rr.degenerate) << rr.info_ratio;
   EXPECT_GT(rr.info_ratio, 0.1);
 }
+
+TEST(PlanarIcp, AWallSeenFromItsOtherSideDoesNotSlideOntoTheFaceSeenFirst)
+{
+  // Two rooms split by a 0.15 m wall (faces x = 0 and x = 0.15) with a
+  // 0.9 m door. The map holds what the robot saw from the left room and
+  // from the doorway: the wall's left face, and the right room through the
+  // door. Stop B stands in the right room and sees the wall's right face,
+  // 0.15 m from the left one. Pairing the two faces (the thesis'
+  // registration: nearest point, no side) pulls B towards the left room.
+  sim::TriangleMesh mesh;
+  const float h = 2.5f, t = 0.15f;
+  const auto wall = [&](float x0, float y0, float x1, float y1)
+  { mesh.addBox({(x0 + x1) / 2, (y0 + y1) / 2, h / 2}, {x1 - x0, y1 - y0, h}); };
+  wall(-4.15f, -3.15f, 4.3f, -3.0f);  // south
+  wall(-4.15f, 3.0f, 4.3f, 3.15f);    // north
+  wall(-4.15f, -3.0f, -4.0f, 3.0f);   // west
+  wall(4.15f, -3.0f, 4.3f, 3.0f);     // east
+  wall(0.0f, -3.0f, t, -0.45f);       // the middle wall, south of the door
+  wall(0.0f, 0.45f, t, 3.0f);         // ... and north of it
+  const sim::RayCaster caster(mesh);
+  const CPose2D B(1.0, 1.8, mrpt::DEG2RAD(10.0));
+  mapping::Metaview m;
+  for (const CPose2D& A : {CPose2D(-1.0, 1.5, mrpt::DEG2RAD(-20.0)), CPose2D(-0.6, 0.0, 0.0),
+                           CPose2D(0.075, 0.0, mrpt::DEG2RAD(5.0))})
+    m.insert(cloudAt(caster, A, true).points, A);
+  const auto cB = cloudAt(caster, B, true);
+  const CPose2D guess = B + CPose2D(0.12, -0.08, mrpt::DEG2RAD(2.0));
+  for (bool thesis : {false, true})
+  {
+    SCOPED_TRACE(thesis ? "thesis' registration" : "today's");
+    mapping::IcpParams p;
+    // The right face and most of the right room are not in the map yet:
+    // only about 30 % of B's cloud can pair.
+    p.min_goodness = 0.25;
+    if (thesis)
+    {
+      p.same_side_only = false;
+      p.normal_radius_small_m = 0;
+    }
+    const auto r = mapping::alignPlanar(m.footprint(), cB.points, guess, p, &m.footprintViewpoints());
+    const double err = std::hypot(r.pose.x() - B.x(), r.pose.y() - B.y());
+    std::cout << (thesis ? "thesis" : "today") << ": error " << err << " m (icp " << (r.icp_pose - B) << "), accepted " << r.accepted
+              << ", goodness " << r.goodness << " " << r.reason << std::endl;
+    if (thesis)
+    {
+      // The failure this guards against (measured: 0.148 m, the wall's thickness).
+      EXPECT_GT(std::hypot(r.icp_pose.x() - B.x(), r.icp_pose.y() - B.y()), 0.10);
+      continue;
+    }
+    EXPECT_TRUE(r.accepted) << r.reason;
+    EXPECT_LT(err, 0.02);
+    EXPECT_NEAR(mrpt::math::wrapToPi(r.pose.phi() - B.phi()), 0.0, mrpt::DEG2RAD(0.3));
+  }
+  // The viewpoints follow the footprint point for point.
+  EXPECT_EQ(m.footprintViewpoints().size(), m.footprint().size());
+  const mapping::Viewpoints too_few(3);
+  EXPECT_THROW(mapping::alignPlanar(m.footprint(), cB.points, guess, mapping::IcpParams{}, &too_few),
+               std::invalid_argument);
+}

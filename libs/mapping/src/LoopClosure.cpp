@@ -207,9 +207,11 @@ Eigen::Matrix3d LoopCloser::edgeInformation(const IcpResult* reg, const CPose2D&
   return out;
 }
 
-mrpt::maps::CSimplePointsMap LoopCloser::submapAround(const CPose2D& around, double max_travel_m) const
+mrpt::maps::CSimplePointsMap LoopCloser::submapAround(const CPose2D& around, Viewpoints& viewpoints,
+                                                      double max_travel_m) const
 {
   mrpt::maps::CSimplePointsMap out;
+  viewpoints.clear();
   std::unordered_set<uint64_t> seen;
   const double inv = 1.0 / params_.submap_cell_m;
   for (const auto& kf : keyframes_)
@@ -225,7 +227,10 @@ mrpt::maps::CSimplePointsMap LoopCloser::submapAround(const CPose2D& around, dou
       const auto k = cellKey(static_cast<int64_t>(std::floor(x * inv)),
                              static_cast<int64_t>(std::floor(y * inv)), 0);
       if (seen.insert(k).second)
+      {
         out.insertPointFast(static_cast<float>(x), static_cast<float>(y), 0.f);
+        viewpoints.emplace_back(static_cast<float>(kf.pose.x()), static_cast<float>(kf.pose.y()));
+      }
     }
   }
   out.mark_as_modified();
@@ -253,7 +258,8 @@ std::optional<IcpResult> LoopCloser::match(LoopEvent& ev, std::size_t& anchor)
   }
   if (!any) return std::nullopt;
   ev.searched = true;
-  const auto submap = submapAround(cur.pose, max_travel);
+  Viewpoints views;
+  const auto submap = submapAround(cur.pose, views, max_travel);
   const double travelled = cur.travel_m - keyframes_[anchor].travel_m;
   IcpParams p = icp_;
   p.enabled = true;
@@ -263,7 +269,7 @@ std::optional<IcpResult> LoopCloser::match(LoopEvent& ev, std::size_t& anchor)
   p.max_correction_yaw = std::clamp(params_.yaw_drift_per_m * travelled, params_.min_window_yaw,
                                     params_.max_window_yaw);
   // 1. From the estimate: the common case (the graph already agrees).
-  IcpResult r = alignPlanar(submap, cur.cloud, cur.pose, p);
+  IcpResult r = alignPlanar(submap, cur.cloud, cur.pose, p, &views);
   const bool small = r.accepted && xyDist(r.pose, cur.pose) <= params_.consistent_m &&
                      std::abs(yawDiff(r.pose, cur.pose)) <= params_.consistent_yaw;
   if (!(small && !r.degenerate))
@@ -274,7 +280,7 @@ std::optional<IcpResult> LoopCloser::match(LoopEvent& ev, std::size_t& anchor)
     p.relocalize_yaw = p.max_correction_yaw;
     p.relocalize_min_goodness = params_.min_goodness;
     p.relocalize_margin = params_.margin;
-    r = relocalizePlanar(submap, cur.cloud, cur.pose, p);
+    r = relocalizePlanar(submap, cur.cloud, cur.pose, p, &views);
   }
   ev.goodness = r.goodness;
   if (!r.accepted || r.degenerate)

@@ -55,19 +55,20 @@ bool Metaview::hasNeighbourWithin(
   return false;
 }
 
-void Metaview::addPoint(
+bool Metaview::addPoint(
     mrpt::maps::CSimplePointsMap& pts, std::unordered_map<uint64_t, std::vector<uint32_t>>& grid,
     bool planar, float x, float y, float z)
 {
   const double d = params_.d_min_m;
   if (d > 0)
   {
-    if (hasNeighbourWithin(pts, grid, planar, x, y, z)) return;
+    if (hasNeighbourWithin(pts, grid, planar, x, y, z)) return false;
     const int64_t iz = planar ? 0 : static_cast<int64_t>(std::floor(z / d));
     grid[cellKey(static_cast<int64_t>(std::floor(x / d)), static_cast<int64_t>(std::floor(y / d)), iz)]
         .push_back(static_cast<uint32_t>(pts.size()));
   }
   pts.insertPointFast(x, y, z);
+  return true;
 }
 
 std::size_t Metaview::insert(const mrpt::maps::CPointsMap& cloud_robot, const mrpt::poses::CPose2D& T_map_robot)
@@ -83,13 +84,14 @@ std::size_t Metaview::insert(const mrpt::maps::CPointsMap& cloud_robot, const mr
   const auto& ys = cloud_robot.getPointsBufferRef_y();
   const auto& zs = cloud_robot.getPointsBufferRef_z();
   const std::size_t before = points_.size();
+  const Eigen::Vector2f viewpoint(static_cast<float>(T_map_robot.x()), static_cast<float>(T_map_robot.y()));
   for (std::size_t i = 0; i < xs.size(); i++)
   {
     const float x = static_cast<float>(T_map_robot.x() + c * xs[i] - s * ys[i]);
     const float y = static_cast<float>(T_map_robot.y() + s * xs[i] + c * ys[i]);
     if (!usable(x) || !usable(y) || !usable(zs[i])) continue;
     addPoint(points_, grid_, false, x, y, zs[i]);
-    addPoint(points2d_, grid2d_, true, x, y, 0.0f);
+    if (addPoint(points2d_, grid2d_, true, x, y, 0.0f)) viewpoints2d_.push_back(viewpoint);
   }
   points_.mark_as_modified();  // KD-trees rebuilt on next query
   points2d_.mark_as_modified();

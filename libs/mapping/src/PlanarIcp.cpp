@@ -35,7 +35,9 @@ void IcpParams::loadFromConfigFile(const mrpt::config::CConfigFileBase& c, const
   MRPT_LOAD_CONFIG_VAR(degeneracy_ratio, double, c, s);
   MRPT_LOAD_CONFIG_VAR(odometry_prior_pairs, double, c, s);
   MRPT_LOAD_CONFIG_VAR(odometry_prior_step_m, double, c, s);
+  MRPT_LOAD_CONFIG_VAR(same_side_only, bool, c, s);
   MRPT_LOAD_CONFIG_VAR(normal_radius_m, double, c, s);
+  MRPT_LOAD_CONFIG_VAR(normal_radius_small_m, double, c, s);
   MRPT_LOAD_CONFIG_VAR(min_points, int, c, s);
   MRPT_LOAD_CONFIG_VAR(max_unconverged_step_m, double, c, s);
   MRPT_LOAD_CONFIG_VAR(relocalize, bool, c, s);
@@ -62,6 +64,8 @@ void IcpParams::loadFromConfigFile(const mrpt::config::CConfigFileBase& c, const
   requireValid(degeneracy_ratio >= 0 && degeneracy_ratio < 1, c, s, "degeneracy_ratio",
                "must be in [0, 1)");
   requireValid(normal_radius_m > 0, c, s, "normal_radius_m", "must be positive");
+  requireValid(normal_radius_small_m >= 0 && normal_radius_small_m < normal_radius_m, c, s,
+               "normal_radius_small_m", "must be in [0, normal_radius_m)");
   requireValid(min_points >= 3, c, s, "min_points", "must be >= 3");
   requireValid(max_unconverged_step_m >= 0, c, s, "max_unconverged_step_m", "must be >= 0");
   requireValid(relocalize_radius_m >= 0 && relocalize_radius_m <= 10, c, s, "relocalize_radius_m",
@@ -93,7 +97,9 @@ void IcpParams::saveToConfigFile(mrpt::config::CConfigFileBase& c, const std::st
   MRPT_SAVE_CONFIG_VAR(degeneracy_ratio, c, s);
   MRPT_SAVE_CONFIG_VAR(odometry_prior_pairs, c, s);
   MRPT_SAVE_CONFIG_VAR(odometry_prior_step_m, c, s);
+  MRPT_SAVE_CONFIG_VAR(same_side_only, c, s);
   MRPT_SAVE_CONFIG_VAR(normal_radius_m, c, s);
+  MRPT_SAVE_CONFIG_VAR(normal_radius_small_m, c, s);
   MRPT_SAVE_CONFIG_VAR(min_points, c, s);
   MRPT_SAVE_CONFIG_VAR(max_unconverged_step_m, c, s);
   MRPT_SAVE_CONFIG_VAR(relocalize, c, s);
@@ -106,7 +112,7 @@ void IcpParams::saveToConfigFile(mrpt::config::CConfigFileBase& c, const std::st
 
 IcpResult alignPlanar(
     const mrpt::maps::CPointsMap& reference_map, const mrpt::maps::CPointsMap& cloud_robot,
-    const CPose2D& predicted, const IcpParams& p)
+    const CPose2D& predicted, const IcpParams& p, const Viewpoints* reference_viewpoints)
 {
   IcpResult r;
   r.pose = predicted;
@@ -146,7 +152,8 @@ IcpResult alignPlanar(
     radius = icp.options.smallestThresholdDist;
   }
   // Stage 2: point-to-line refinement (ours), radius annealed to d_max_final_m.
-  const auto fine = detail::refinePointToLine(reference_map, cloud_robot, coarse, radius, p, predicted);
+  const auto fine = detail::refinePointToLine(reference_map, cloud_robot, coarse, radius, p, predicted,
+                                              p.same_side_only ? reference_viewpoints : nullptr);
   r.icp_pose = fine.pose;
   r.iterations += fine.iterations;
   r.converged = fine.converged;
@@ -243,7 +250,7 @@ std::vector<Seed> scoreSeeds(const mrpt::maps::CPointsMap& ref,
 
 IcpResult relocalizePlanar(
     const mrpt::maps::CPointsMap& reference_map, const mrpt::maps::CPointsMap& cloud_robot,
-    const CPose2D& predicted, const IcpParams& p)
+    const CPose2D& predicted, const IcpParams& p, const Viewpoints* reference_viewpoints)
 {
   IcpResult none;
   none.pose = none.icp_pose = predicted;
@@ -276,7 +283,7 @@ IcpResult relocalizePlanar(
     if (std::any_of(tried.begin(), tried.end(), [&](const CPose2D& t) { return !distinct(t, seed.pose); }))
       continue;
     tried.push_back(seed.pose);
-    auto r = alignPlanar(reference_map, cloud_robot, seed.pose, wide);
+    auto r = alignPlanar(reference_map, cloud_robot, seed.pose, wide, reference_viewpoints);
     r.icp_pose = r.pose = r.accepted ? r.pose : r.icp_pose;
     refined.push_back(r);
   }

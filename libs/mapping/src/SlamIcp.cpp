@@ -116,14 +116,16 @@ void SlamIcp::registerStop(StopReport& rep, const RobotCloud& cloud, bool has_de
       if (len > icp.odometry_prior_step_m)
         icp.odometry_prior_pairs *= std::pow(icp.odometry_prior_step_m / len, 2);
     }
-    rep.icp = alignPlanar(metaview_.footprint(), cloud.points, rep.predicted, icp);
+    rep.icp = alignPlanar(metaview_.footprint(), cloud.points, rep.predicted, icp,
+                          &metaview_.footprintViewpoints());
     // ICP ran and was rejected: the prediction may be wrong (an odometry
     // jump). Search round it; accepted only when unambiguous.
     if (!rep.icp.accepted && params_.icp.enabled && params_.icp.relocalize &&
         rep.icp.iterations > 0)
     {
       const std::string first_reason = rep.icp.reason;
-      rep.icp = relocalizePlanar(metaview_.footprint(), cloud.points, rep.predicted, params_.icp);
+      rep.icp = relocalizePlanar(metaview_.footprint(), cloud.points, rep.predicted, params_.icp,
+                                 &metaview_.footprintViewpoints());
       rep.icp.reason = first_reason + "; " + rep.icp.reason;
       rep.relocalized = rep.icp.accepted;
     }

@@ -7,43 +7,58 @@
 #include <Eigen/Cholesky>
 #include <Eigen/Eigenvalues>
 #include <cmath>
+#include <stdexcept>
+#include <string>
 
 namespace voxplore::mapping::detail
 {
 namespace
 {
-// A neighbourhood is a line when its spread across is below this share of its
-// spread along. A wall seen with 1.5-2.5 cm range noise over a 0.25 m radius
-// gives about 0.03; a table leg (a few cm of arc in the same noise) is above 1.
-constexpr double kMaxLineSpreadRatio = 0.15;
+// A neighbourhood is a line when the variance across is below this share of
+// the variance along. A wall seen with 1.5-2.5 cm range noise over a 0.25 m
+// radius gives about 0.03; a table leg (a few cm of arc) is above 1.
+constexpr double kLineRatio = 0.05;
+// Over the small radius the same noise is a larger share of the spread along
+// (about 0.1 over 0.1 m); a corner's two arms still give about 1.
+constexpr double kSmallLineRatio = 0.2;
 }  // namespace
+
+LocalLine LineNormals::fit(std::size_t idx, double radius_m, double max_ratio) const
+{
+  const auto& xs = ref_.getPointsBufferRef_x();
+  const auto& ys = ref_.getPointsBufferRef_y();
+  std::vector<nanoflann::ResultItem<size_t, float>> nn;
+  ref_.kdTreeRadiusSearch2D(xs[idx], ys[idx], static_cast<float>(radius_m * radius_m), nn);
+  LocalLine line;
+  if (nn.size() < 5) return line;
+  Eigen::Vector2d mean = Eigen::Vector2d::Zero();
+  for (const auto& n : nn) mean += Eigen::Vector2d(xs[n.first], ys[n.first]);
+  mean /= double(nn.size());
+  Eigen::Matrix2d C = Eigen::Matrix2d::Zero();
+  for (const auto& n : nn)
+  {
+    const Eigen::Vector2d d = Eigen::Vector2d(xs[n.first], ys[n.first]) - mean;
+    C += d * d.transpose();
+  }
+  Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d> es(C);
+  // Line-like: the spread across is well below the spread along.
+  line.valid = es.eigenvalues()(0) < max_ratio * es.eigenvalues()(1);
+  line.normal = es.eigenvectors().col(0);
+  line.centroid = mean;
+  return line;
+}
 
 const LocalLine& LineNormals::lineAt(std::size_t idx)
 {
   auto it = cache_.find(idx);
   if (it != cache_.end()) return it->second;
-  const auto& xs = ref_.getPointsBufferRef_x();
-  const auto& ys = ref_.getPointsBufferRef_y();
-  std::vector<nanoflann::ResultItem<size_t, float>> nn;
-  ref_.kdTreeRadiusSearch2D(xs[idx], ys[idx], static_cast<float>(radius_m_ * radius_m_), nn);
-  LocalLine line;
-  if (nn.size() >= 5)
-  {
-    Eigen::Vector2d mean = Eigen::Vector2d::Zero();
-    for (const auto& n : nn) mean += Eigen::Vector2d(xs[n.first], ys[n.first]);
-    mean /= double(nn.size());
-    Eigen::Matrix2d C = Eigen::Matrix2d::Zero();
-    for (const auto& n : nn)
-    {
-      const Eigen::Vector2d d = Eigen::Vector2d(xs[n.first], ys[n.first]) - mean;
-      C += d * d.transpose();
-    }
-    Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d> es(C);
-    // Line-like: the spread across is well below the spread along.
-    line.valid = es.eigenvalues()(0) < 0.05 * es.eigenvalues()(1);
-    line.normal = es.eigenvectors().col(0);
-    line.centroid = mean;
-  }
+  LocalLine line = fit(idx, radius_m_, kLineRatio);
+  // Not a line at radius_m_: a corner, or both faces of a wall (0.15 m
+  // apart in the generated buildings). Fitted again over a radius below the
+  // wall thickness, so that a face keeps its own line (and the same-side
+  // test can tell the faces apart) instead of becoming point-to-point pairs
+  // that slide onto the other face.
+  if (!line.valid && small_radius_m_ > 0) line = fit(idx, small_radius_m_, kSmallLineRatio);
   return cache_.emplace(idx, line).first->second;
 }
 
@@ -60,7 +75,8 @@ struct Accum
 
 Accum linearise(
     const mrpt::maps::CPointsMap& ref, const mrpt::maps::CPointsMap& cloud, const mrpt::poses::CPose2D& T,
-    double radius, std::size_t stride, double huber, double point_weight, LineNormals& normals)
+    double radius, std::size_t stride, double huber, double point_weight, LineNormals& normals,
+    const Viewpoints* views)
 {
   Accum a;
   const auto& xs = cloud.getPointsBufferRef_x();
@@ -82,6 +98,15 @@ Accum linearise(
     {
       // Point-to-line residual against the local wall/surface line fit.
       const Eigen::Vector2d& n = line.normal;
+      if (views)
+      {
+        // Seen from opposite sides of the line (the two faces of a wall,
+        // a wall thickness apart): not the same surface.
+        const Eigen::Vector2f& v = (*views)[m];
+        const double side_ref = n.x() * (v.x() - line.centroid.x()) + n.y() * (v.y() - line.centroid.y());
+        const double side_cur = n.x() * (T.x() - px) + n.y() * (T.y() - py);
+        if (side_ref * side_cur < 0) continue;
+      }
       const double r = n.x() * (px - line.centroid.x()) + n.y() * (py - line.centroid.y());
       const Eigen::Vector3d J(n.x(), n.y(), n.x() * dpx + n.y() * dpy);
       const double w = std::abs(r) <= huber ? 1.0 : huber / std::abs(r);
@@ -112,11 +137,14 @@ Accum linearise(
 RefineResult refinePointToLine(
     const mrpt::maps::CPointsMap& ref, const mrpt::maps::CPointsMap& cloud,
     const mrpt::poses::CPose2D& start, double radius_start_m, const IcpParams& p,
-    const mrpt::poses::CPose2D& prior)
+    const mrpt::poses::CPose2D& prior, const Viewpoints* viewpoints)
 {
+  if (viewpoints && viewpoints->size() != ref.size())
+    throw std::invalid_argument("refinePointToLine: " + std::to_string(viewpoints->size()) +
+                                " viewpoints for " + std::to_string(ref.size()) + " reference points");
   RefineResult res;
   res.pose = start;
-  LineNormals normals(ref, p.normal_radius_m);
+  LineNormals normals(ref, p.normal_radius_m, p.normal_radius_small_m);
   const std::size_t stride =
       std::max<std::size_t>(1, cloud.size() / static_cast<std::size_t>(std::max(1, p.max_points)));
   res.used = (cloud.size() + stride - 1) / stride;
@@ -124,7 +152,7 @@ RefineResult refinePointToLine(
   Accum a;
   for (int it = 0; it < p.max_iterations; it++)
   {
-    a = linearise(ref, cloud, res.pose, radius, stride, p.huber_m, p.point_weight, normals);
+    a = linearise(ref, cloud, res.pose, radius, stride, p.huber_m, p.point_weight, normals, viewpoints);
     res.iterations++;
     if (a.pairs < 3) break;
     // Degenerate translation directions get no update (solution remapping).
@@ -164,7 +192,7 @@ RefineResult refinePointToLine(
       radius = std::max(p.d_max_final_m, radius * p.alfa);
     }
   }
-  a = linearise(ref, cloud, res.pose, p.d_max_final_m, stride, p.huber_m, p.point_weight, normals);
+  a = linearise(ref, cloud, res.pose, p.d_max_final_m, stride, p.huber_m, p.point_weight, normals, viewpoints);
   res.information = a.info;
   res.pairs = a.pairs;
   res.rms_m = a.pairs ? std::sqrt(a.sum_r2 / double(a.pairs)) : 0.0;

@@ -24,12 +24,19 @@ struct LocalLine
 class LineNormals
 {
  public:
-  LineNormals(const mrpt::maps::CPointsMap& ref, double radius_m) : ref_(ref), radius_m_(radius_m) {}
+  /// @param small_radius_m a neighbourhood that is not a line over radius_m
+  ///        is fitted again over this one (0: not)
+  LineNormals(const mrpt::maps::CPointsMap& ref, double radius_m, double small_radius_m)
+      : ref_(ref), radius_m_(radius_m), small_radius_m_(small_radius_m)
+  {
+  }
   const LocalLine& lineAt(std::size_t idx);
 
  private:
+  LocalLine fit(std::size_t idx, double radius_m, double max_ratio) const;
+
   const mrpt::maps::CPointsMap& ref_;
-  double radius_m_;
+  double radius_m_, small_radius_m_;
   std::unordered_map<std::size_t, LocalLine> cache_;
 };
 
@@ -55,10 +62,13 @@ struct RefineResult
 ///        direction with information below degeneracy_ratio (when enabled)
 ///        no update is made (solution remapping). With
 ///        params.odometry_prior_pairs > 0 the translation of `prior` (the
-///        odometry prediction) is a prior of that weight.
+///        odometry prediction) is a prior of that weight. With `viewpoints`
+///        (where each reference point was seen from) a cloud point (seen
+///        from the robot) is not paired with a reference line seen from its
+///        other side.
 RefineResult refinePointToLine(
     const mrpt::maps::CPointsMap& ref, const mrpt::maps::CPointsMap& cloud,
     const mrpt::poses::CPose2D& start, double radius_start_m, const IcpParams& params,
-    const mrpt::poses::CPose2D& prior);
+    const mrpt::poses::CPose2D& prior, const Viewpoints* viewpoints = nullptr);
 
 }  // namespace voxplore::mapping::detail

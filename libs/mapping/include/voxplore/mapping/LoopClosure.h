@@ -137,8 +137,9 @@ class LoopCloser
 
   /// @brief The 2D submap of the old keyframes near `around` (keyframes with
   ///        travel_m <= max_travel_m within submap_radius_m), map frame.
-  ///        Empty when none.
-  mrpt::maps::CSimplePointsMap submapAround(const mrpt::poses::CPose2D& around,
+  ///        Empty when none. `viewpoints` gets each point's keyframe
+  ///        position (where it was seen from).
+  mrpt::maps::CSimplePointsMap submapAround(const mrpt::poses::CPose2D& around, Viewpoints& viewpoints,
                                             double max_travel_m) const;
 
   /// @brief Relaxes the graph now (MRPT's SPA Levenberg-Marquardt), copies the

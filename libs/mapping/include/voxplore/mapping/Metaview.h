@@ -4,6 +4,7 @@
 #include <mrpt/config/CLoadableOptions.h>
 #include <mrpt/maps/CSimplePointsMap.h>
 #include <mrpt/poses/CPose2D.h>
+#include <voxplore/mapping/PlanarIcp.h>
 
 #include <cstdint>
 #include <unordered_map>
@@ -45,6 +46,10 @@ class Metaview
   ///        and the normal estimation that much cheaper. Its KD-tree is
   ///        rebuilt lazily by MRPT after each insert.
   const mrpt::maps::CSimplePointsMap& footprint() const { return points2d_; }
+  /// @brief Where each footprint() point was seen from (the robot's position
+  ///        when it joined), index-aligned: ICP pairs only surfaces seen
+  ///        from the same side ([icp] same_side_only).
+  const Viewpoints& footprintViewpoints() const { return viewpoints2d_; }
   std::size_t size() const { return points_.size(); }
   bool empty() const { return points_.empty(); }
   const MetaviewParams& params() const { return params_; }
@@ -52,13 +57,15 @@ class Metaview
  private:
   MetaviewParams params_;
   mrpt::maps::CSimplePointsMap points_, points2d_;
+  Viewpoints viewpoints2d_;
   std::unordered_map<uint64_t, std::vector<uint32_t>> grid_, grid2d_;  ///< cell -> point indices
   uint64_t cellKey(int64_t ix, int64_t iy, int64_t iz) const;
   bool hasNeighbourWithin(
       const mrpt::maps::CSimplePointsMap& pts,
       const std::unordered_map<uint64_t, std::vector<uint32_t>>& grid, bool planar, float x,
       float y, float z) const;
-  void addPoint(
+  /// @return whether the point was added
+  bool addPoint(
       mrpt::maps::CSimplePointsMap& pts, std::unordered_map<uint64_t, std::vector<uint32_t>>& grid,
       bool planar, float x, float y, float z);
 };
