@@ -8,14 +8,13 @@
 // shows here without the feedback of an already drifted map.
 #include "bench_registration.h"
 
+#include <mrpt/math/wrap2pi.h>
 #include <voxplore/common/Progress.h>
 #include <voxplore/mapping/Metaview.h>
 #include <voxplore/mapping/PlanarIcp.h>
 #include <voxplore/mapping/robot_cloud.h>
 
-#include <mrpt/poses/CPoint2D.h>
 #include <algorithm>
-#include <cstdlib>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -87,27 +86,12 @@ RegistrationErrors measureRegistration(const SlamBenchData& data, const std::fun
       e.accepted = r.accepted;
       e.goodness = r.goodness;
       e.info_ratio = r.info_ratio;
-      const CPose2D err = gt - r.pose;  // the error in the true robot frame
+      const CPose2D err = gt - r.pose;  // the truth in the estimated robot frame: x > 0 = step too short
       e.along_m = err.x();
       e.across_m = err.y();
       e.error_m = std::hypot(err.x(), err.y());
       e.yaw_error_deg = mrpt::RAD2DEG(mrpt::math::wrapToPi(err.phi()));
       out.stops.push_back(e);
-      if (const char* dump = std::getenv("VOXPLORE_REG_DUMP"); dump && std::to_string(k) == dump)
-      {
-        std::ofstream f("/tmp/ana/dump.csv");
-        const auto& fp = metaview.footprint();
-        const auto& vp = metaview.footprintViewpoints();
-        for (std::size_t i = 0; i < fp.size(); i++)
-          f << "m," << fp.getPointsBufferRef_x()[i] << "," << fp.getPointsBufferRef_y()[i] << ","
-            << vp[i].x() << "," << vp[i].y() << "\n";
-        for (const auto& [tag, P] : {std::pair{"e", r.pose}, std::pair{"g", gt}, std::pair{"p", predicted}})
-          for (std::size_t i = 0; i < cloud.points.size(); i++)
-          {
-            const auto q = P + mrpt::poses::CPoint2D(cloud.points.getPointsBufferRef_x()[i], cloud.points.getPointsBufferRef_y()[i]);
-            f << tag << "," << q.x() << "," << q.y() << "," << P.x() << "," << P.y() << "\n";
-          }
-      }
     }
     metaview.insert(cloud.points, gt);
     gt_prev = gt;
@@ -161,7 +145,7 @@ void runRegistrationTable(const SlamBenchData& data, const SlamBenchOptions& opt
       << rejected << ", relocalised: " << reloc << "\n";
   std::vector<RegistrationError> worst = res.stops;
   std::sort(worst.begin(), worst.end(), [](const auto& a, const auto& b) { return a.error_m > b.error_m; });
-  out << "\nWorst stops (error in the true robot frame: along = forward):\n";
+  out << "\nWorst stops (the truth in the estimated robot frame: along > 0 = the step came out short):\n";
   for (std::size_t i = 0; i < std::min<std::size_t>(10, worst.size()); i++)
   {
     const auto& e = worst[i];
