@@ -555,10 +555,24 @@ TEST(Faults, OdometryJumpIsRelocalizedOrRejectedAndNeverCorruptsTheMap)
 
   // Default: ICP rejects the prediction, the relocalisation finds the pose.
   const auto on = odometryJump(kJump, mapping::SlamIcpParams{}, *clean);
-  // Without relocalisation: every later stop is rejected and stays out of the map.
+  // Without relocalisation and without the confirmation of large
+  // corrections: every later stop is rejected and stays out of the map.
   mapping::SlamIcpParams no_reloc;
   no_reloc.icp.relocalize = false;
+  no_reloc.icp.confirm_large_corrections = false;
   const auto off = odometryJump(kJump, no_reloc, *clean);
+  // Without relocalisation but with the confirmation: ICP found the jump
+  // from the bad prediction; refused for its size, then confirmed by the
+  // next stop.
+  mapping::SlamIcpParams confirm_only;
+  confirm_only.icp.relocalize = false;
+  const auto confirmed = odometryJump(kJump, confirm_only, *clean);
+  std::cout << "[ faults ] confirmation only: " << confirmed.flagged << " flagged, " << confirmed.right
+            << " of " << kAfter << " later poses right, precision " << confirmed.precision << "\n";
+  EXPECT_EQ(confirmed.wrong_integrated, 0u);
+  EXPECT_LE(confirmed.flagged, 3u);
+  EXPECT_GE(confirmed.right, kAfter - 2);
+  EXPECT_GE(confirmed.precision, prec_clean - 0.01);
   std::cout << "[ faults ] odometry jump 1 m / 30 deg at stop " << kJump << ": relocalisation on: "
             << on.relocalized << " relocalized, " << on.right << " of " << kAfter
             << " later poses right, " << on.flagged << " flagged, map precision " << on.precision

@@ -228,3 +228,63 @@ TEST(PlanarIcp, AWallSeenFromItsOtherSideDoesNotSlideOntoTheFaceSeenFirst)
   EXPECT_THROW(mapping::alignPlanar(m.footprint(), cB.points, guess, mapping::IcpParams{}, &too_few),
                std::invalid_argument);
 }
+
+TEST(SlamIcp, ALargeOdometryErrorIsTakenWhenTheNextStopConfirmsIt)
+{
+  // Odometry turns 12 deg off during the drive to stop 2 (over [icp]
+  // max_correction_yaw = 10 deg): stop 2's registration is refused for its
+  // size. Stop 3, registered from the prediction carrying that correction,
+  // agrees: both are corrected. Relocalisation is off so that only the
+  // confirmation can fix it.
+  RoomFixture f;
+  sim::DepthCameraRig rig{sim::CameraRigParams{}};
+  std::mt19937_64 rng(5);
+  const CPose2D s = f.world.start;  // (2, 4, 0) in the DLR room
+  const std::vector<CPose2D> truth = {s, s + CPose2D(0.3, 0.1, 0.2), s + CPose2D(0.6, 0.3, 0.8),
+                                      s + CPose2D(0.8, 0.2, 1.0), s + CPose2D(0.9, 0.0, 1.1)};
+  const CPose2D odo_error(0.0, 0.0, mrpt::DEG2RAD(12.0));
+  for (bool confirm : {true, false})
+  {
+    SCOPED_TRACE(confirm ? "confirmation on" : "confirmation off");
+    mapping::SlamIcpParams p;
+    p.icp.relocalize = false;
+    p.icp.confirm_large_corrections = confirm;
+    p.loop_closure.enabled = false;
+    mapping::SlamIcp slam(p);
+    std::vector<mapping::StopReport> reps;
+    for (std::size_t i = 0; i < truth.size(); i++)
+    {
+      mrpt::obs::CSensoryFrame sf;
+      for (const auto& o : rig.scan(f.caster, CPose3D(truth[i]), mrpt::Clock::fromDouble(i), rng, true))
+        sf.insert(o);
+      // Odometry: the true motion, turned by 12 deg from stop 2 on (about the start).
+      const CPose2D rel = truth[i] - truth[0];
+      const CPose2D odo = i >= 2 ? odo_error + rel : rel;
+      reps.push_back(slam.processStop(sf, odo, mrpt::Clock::fromDouble(double(i))));
+    }
+    const auto& out = slam.reports();
+    ASSERT_EQ(out.size(), truth.size());
+    EXPECT_TRUE(out[2].flagged) << out[2].icp.reason;
+    EXPECT_NE(out[2].icp.reason.find("deg > 10 deg"), std::string::npos) << out[2].icp.reason;
+    const auto err = [&](std::size_t i)
+    {
+      const CPose2D t = truth[i] - truth[0];
+      return std::hypot(out[i].pose.x() - t.x(), out[i].pose.y() - t.y()) +
+             std::abs(mrpt::math::wrapToPi(out[i].pose.phi() - t.phi()));
+    };
+    if (confirm)
+    {
+      EXPECT_TRUE(out[3].confirmed_correction) << out[3].icp.reason;
+      EXPECT_FALSE(out[3].flagged);
+      EXPECT_NE(out[2].icp.reason.find("confirmed by stop 3"), std::string::npos) << out[2].icp.reason;
+      for (std::size_t i : {2u, 3u, 4u}) EXPECT_LT(err(i), 0.03) << "stop " << i;
+      EXPECT_FALSE(out[2].integrated) << "the refused stop stays out of the maps";
+    }
+    else
+    {
+      EXPECT_FALSE(out[3].confirmed_correction);
+      EXPECT_TRUE(out[3].flagged) << out[3].icp.reason;
+      EXPECT_GT(err(3), 0.1);
+    }
+  }
+}

@@ -31,6 +31,10 @@ void IcpParams::loadFromConfigFile(const mrpt::config::CConfigFileBase& c, const
   MRPT_LOAD_CONFIG_VAR(min_goodness, double, c, s);
   MRPT_LOAD_CONFIG_VAR(max_correction_xy_m, double, c, s);
   MRPT_LOAD_CONFIG_VAR_DEGREES(max_correction_yaw, c, s);
+  MRPT_LOAD_CONFIG_VAR(confirm_large_corrections, bool, c, s);
+  MRPT_LOAD_CONFIG_VAR(confirm_xy_m, double, c, s);
+  MRPT_LOAD_CONFIG_VAR_DEGREES(confirm_yaw, c, s);
+  MRPT_LOAD_CONFIG_VAR(confirm_min_goodness, double, c, s);
   MRPT_LOAD_CONFIG_VAR(degeneracy_check, bool, c, s);
   MRPT_LOAD_CONFIG_VAR(degeneracy_ratio, double, c, s);
   MRPT_LOAD_CONFIG_VAR(odometry_prior_pairs, double, c, s);
@@ -59,6 +63,10 @@ void IcpParams::loadFromConfigFile(const mrpt::config::CConfigFileBase& c, const
   requireValid(min_goodness >= 0 && min_goodness <= 1, c, s, "min_goodness", "must be in [0, 1]");
   requireValid(max_correction_xy_m > 0, c, s, "max_correction_xy_m", "must be positive");
   requireValid(max_correction_yaw > 0, c, s, "max_correction_yaw", "must be positive");
+  requireValid(confirm_xy_m > 0, c, s, "confirm_xy_m", "must be positive");
+  requireValid(confirm_yaw > 0, c, s, "confirm_yaw", "must be positive");
+  requireValid(confirm_min_goodness >= 0 && confirm_min_goodness <= 1, c, s, "confirm_min_goodness",
+               "must be in [0, 1]");
   requireValid(odometry_prior_pairs >= 0, c, s, "odometry_prior_pairs", "must be >= 0");
   requireValid(odometry_prior_step_m > 0, c, s, "odometry_prior_step_m", "must be > 0");
   requireValid(degeneracy_ratio >= 0 && degeneracy_ratio < 1, c, s, "degeneracy_ratio",
@@ -93,6 +101,10 @@ void IcpParams::saveToConfigFile(mrpt::config::CConfigFileBase& c, const std::st
   MRPT_SAVE_CONFIG_VAR(min_goodness, c, s);
   MRPT_SAVE_CONFIG_VAR(max_correction_xy_m, c, s);
   MRPT_SAVE_CONFIG_VAR_DEGREES(max_correction_yaw, c, s);
+  MRPT_SAVE_CONFIG_VAR(confirm_large_corrections, c, s);
+  MRPT_SAVE_CONFIG_VAR(confirm_xy_m, c, s);
+  MRPT_SAVE_CONFIG_VAR_DEGREES(confirm_yaw, c, s);
+  MRPT_SAVE_CONFIG_VAR(confirm_min_goodness, c, s);
   MRPT_SAVE_CONFIG_VAR(degeneracy_check, c, s);
   MRPT_SAVE_CONFIG_VAR(degeneracy_ratio, c, s);
   MRPT_SAVE_CONFIG_VAR(odometry_prior_pairs, c, s);
@@ -186,10 +198,16 @@ IcpResult alignPlanar(
   else if (r.goodness < p.min_goodness)
     why << "goodness " << r.goodness << " < " << p.min_goodness;
   else if (dxy > p.max_correction_xy_m)
+  {
     why << "correction " << dxy << " m > " << p.max_correction_xy_m << " m";
+    r.over_correction_limit = true;
+  }
   else if (dyaw > p.max_correction_yaw)
+  {
     why << "correction " << mrpt::RAD2DEG(dyaw) << " deg > " << mrpt::RAD2DEG(p.max_correction_yaw)
         << " deg";
+    r.over_correction_limit = true;
+  }
   r.reason = why.str();
   r.accepted = r.reason.empty();
   if (r.accepted)

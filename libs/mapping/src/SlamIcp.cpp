@@ -1,3 +1,4 @@
+#include <mrpt/math/wrap2pi.h>
 #include <mrpt/obs/CActionRobotMovement2D.h>
 #include <mrpt/obs/CObservationOdometry.h>
 #include <mrpt/poses/CPose3DPDFGaussian.h>
@@ -6,6 +7,7 @@
 #include <voxplore/mapping/SlamIcp.h>
 
 #include <cmath>
+#include <sstream>
 #include <stdexcept>
 
 namespace voxplore::mapping
@@ -97,6 +99,8 @@ void SlamIcp::registerStop(StopReport& rep, const RobotCloud& cloud, bool has_de
   mrpt::system::CTicTac tic;
   rep.pose = rep.icp.pose = rep.icp.icp_pose = rep.predicted;
   const bool first = rep.index == 0;
+  const std::optional<LargeCorrection> pending = large_correction_;
+  large_correction_.reset();
   if (!has_depth)
     rep.icp.reason = "no usable depth image";
   else if (first)
@@ -118,9 +122,11 @@ void SlamIcp::registerStop(StopReport& rep, const RobotCloud& cloud, bool has_de
     }
     rep.icp = alignPlanar(metaview_.footprint(), cloud.points, rep.predicted, icp,
                           &metaview_.footprintViewpoints());
+    const IcpResult first_try = rep.icp;
+    const bool confirmed = !rep.icp.accepted && pending && confirmLargeCorrection(rep, cloud, *pending);
     // ICP ran and was rejected: the prediction may be wrong (an odometry
     // jump). Search round it; accepted only when unambiguous.
-    if (!rep.icp.accepted && params_.icp.enabled && params_.icp.relocalize &&
+    if (!confirmed && !rep.icp.accepted && params_.icp.enabled && params_.icp.relocalize &&
         rep.icp.iterations > 0)
     {
       const std::string first_reason = rep.icp.reason;
@@ -130,6 +136,9 @@ void SlamIcp::registerStop(StopReport& rep, const RobotCloud& cloud, bool has_de
       rep.relocalized = rep.icp.accepted;
     }
     rep.pose = rep.icp.pose;
+    if (!rep.icp.accepted && params_.icp.confirm_large_corrections && first_try.over_correction_limit &&
+        !first_try.degenerate && first_try.goodness >= params_.icp.confirm_min_goodness)
+      large_correction_ = LargeCorrection{rep.index, first_try.icp_pose, rep.predicted, first_try.goodness};
   }
   rep.t_icp_ms = 1e3 * tic.Tac();
   // Flagged: ICP should have registered the stop and did not. With ICP
@@ -141,6 +150,38 @@ void SlamIcp::registerStop(StopReport& rep, const RobotCloud& cloud, bool has_de
     rep.pose = rep.predicted;
     rep.flagged = true;
   }
+}
+
+bool SlamIcp::confirmLargeCorrection(StopReport& rep, const RobotCloud& cloud, const LargeCorrection& lc)
+{
+  if (lc.stop + 1 != rep.index || reports_.empty() || reports_.back().index != lc.stop) return false;
+  // The correction in the map frame (D: icp = D + predicted) carries over to
+  // this stop when the odometry since is good: truth = D + prediction.
+  CPose2D inverse_prediction = lc.predicted;
+  inverse_prediction.inverse();
+  const CPose2D D = lc.icp_pose + inverse_prediction;
+  const CPose2D carried = D + rep.predicted;
+  IcpResult r = alignPlanar(metaview_.footprint(), cloud.points, carried, params_.icp,
+                            &metaview_.footprintViewpoints());
+  const double dxy = std::hypot(r.pose.x() - carried.x(), r.pose.y() - carried.y());
+  const double dyaw = std::abs(mrpt::math::wrapToPi(r.pose.phi() - carried.phi()));
+  if (!r.accepted || r.degenerate || r.goodness < params_.icp.confirm_min_goodness ||
+      dxy > params_.icp.confirm_xy_m || dyaw > params_.icp.confirm_yaw)
+    return false;
+  std::ostringstream why;
+  why << rep.icp.reason << "; confirms stop " << lc.stop << "'s correction ("
+      << std::hypot(lc.icp_pose.x() - lc.predicted.x(), lc.icp_pose.y() - lc.predicted.y()) << " m, "
+      << mrpt::RAD2DEG(mrpt::math::wrapToPi(lc.icp_pose.phi() - lc.predicted.phi()))
+      << " deg): agrees within " << dxy << " m, " << mrpt::RAD2DEG(dyaw) << " deg";
+  r.reason = why.str();
+  rep.icp = r;
+  rep.confirmed_correction = true;
+  // The previous stop was where its refused registration put it. It stays
+  // out of the maps (flagged); only its pose in the trajectory is corrected.
+  StopReport& prev = reports_.back();
+  prev.pose = lc.icp_pose;
+  prev.icp.reason += "; pose confirmed by stop " + std::to_string(rep.index);
+  return true;
 }
 
 void SlamIcp::integrateStop(

@@ -59,6 +59,10 @@ struct StopReport
   /// pose starts the map: nothing can be corrupted yet).
   bool integrated = false;
   bool relocalized = false;         ///< ICP rejected the prediction, relocalizePlanar() found the pose
+  /// Registered from the prediction carrying the previous stop's refused
+  /// correction, and agreeing with it ([icp] confirm_large_corrections): the
+  /// previous stop's pose was corrected too.
+  bool confirmed_correction = false;
   std::size_t cameras_used = 0;     ///< depth images that passed checkDepthScan()
   std::vector<CameraIssue> camera_issues;  ///< skipped, cleaned or missing cameras
   std::vector<std::string> warnings;       ///< one line per issue, for the user
@@ -126,6 +130,11 @@ class SlamIcp
   void checkCameras(const mrpt::obs::CSensoryFrame& sf, StopReport& rep, UsableScans& usable);
   /// Step 3: ICP (and relocalisation) or the prediction; sets pose, icp, flagged.
   void registerStop(StopReport& rep, const RobotCloud& cloud, bool has_depth);
+  /// After a rejected registration: when the previous stop's registration
+  /// was refused only for its size, try this stop from the prediction
+  /// carrying that correction; true when it agrees (rep.icp replaced).
+  struct LargeCorrection;
+  bool confirmLargeCorrection(StopReport& rep, const RobotCloud& cloud, const LargeCorrection& lc);
   /// Steps 4 and 5 and the keyframe, for a stop that is integrated.
   void integrateStop(StopReport& rep, const RobotCloud& cloud,
                      const std::vector<mrpt::obs::CObservation3DRangeScan::Ptr>& scans,
@@ -146,6 +155,15 @@ class SlamIcp
   std::optional<mrpt::poses::CPose2D> action_odometry_;  ///< accumulated action increments
   std::set<std::string> known_cameras_;  ///< labels of every depth camera seen so far
   LoopCloser loop_;
+  /// The previous stop's registration, refused only for its size ([icp]
+  /// confirm_large_corrections): its stop and ICP pose.
+  struct LargeCorrection
+  {
+    std::size_t stop = 0;
+    mrpt::poses::CPose2D icp_pose, predicted;
+    double goodness = 0;
+  };
+  std::optional<LargeCorrection> large_correction_;
   double travel_m_ = 0;  ///< distance travelled along the estimate
   std::size_t loop_closures_ = 0;
   double max_graph_shift_m_ = 0;
