@@ -97,5 +97,23 @@ grep -q "\[[0-9]*/3\]" "$TMP/second.log" && fail "the second call ran a job"
 [ "$(python3 -c 'import csv,sys; print(len(list(csv.DictReader(open(sys.argv[1])))))' "$OUT/runs.csv")" -eq 3 ] \
   || fail "runs.csv lost rows on the second call"
 
+# scripts/campaign_compare.py: the campaign against a copy with one ATE
+# doubled pairs every run, counts that one as worse and lists the failure.
+python3 - "$OUT/runs.csv" "$TMP/runs_worse.csv" <<'EOF'
+import csv, sys
+rows = list(csv.DictReader(open(sys.argv[1])))
+rows[0]["ate_rmse_m"] = str(2 * float(rows[0]["ate_rmse_m"]) + 0.01)
+w = csv.DictWriter(open(sys.argv[2], "w", newline=""), fieldnames=list(rows[0].keys()))
+w.writeheader()
+w.writerows(rows)
+EOF
+"$REPO/scripts/campaign_compare.py" "$OUT" "$TMP/runs_worse.csv" --labels "a,b" --out "$TMP/compare.md" \
+  || fail "campaign_compare.py failed"
+grep -q "3 paired" "$TMP/compare.md" || fail "compare: not 3 pairs: $(head -5 "$TMP/compare.md")"
+grep -q "| ATE RMSE \[m\] | .* | 0 / 1 / 0 |" "$TMP/compare.md" || fail "compare: the doubled ATE is not one worse"
+grep -q "no_such_world" "$TMP/compare.md" || fail "compare: the failed run is not listed"
+"$REPO/scripts/campaign_compare.py" "$OUT" "$TMP/no_such_runs.csv" > /dev/null 2>&1 \
+  && fail "compare: a missing runs.csv is not an error"
+
 ok=1
 echo "campaign_test: PASS"
