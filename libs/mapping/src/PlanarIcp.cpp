@@ -170,7 +170,10 @@ IcpResult alignPlanar(
   r.iterations += fine.iterations;
   r.converged = fine.converged;
   r.last_step_m = std::max(fine.last_step_m, fine.last_step_rad * 1.0 /* m */);
-  r.goodness = fine.used ? double(fine.pairs) / double(fine.used) : 0.0;
+  // A point refused only for the side of its line still lies on the map
+  // (the thesis' goodness): a door jamb's normal beside a wall's end took
+  // 9 % of a stop's points and rejected the omniRob's first turn.
+  r.goodness = fine.used ? double(fine.near) / double(fine.used) : 0.0;
   r.rms_m = fine.rms_m;
   r.pairs = fine.pairs;
   r.info_ratio = fine.info_ratio;

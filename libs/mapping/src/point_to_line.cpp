@@ -69,7 +69,8 @@ struct Accum
   Eigen::Matrix3d H = Eigen::Matrix3d::Zero();  // weighted
   Eigen::Vector3d b = Eigen::Vector3d::Zero();
   Eigen::Matrix3d info = Eigen::Matrix3d::Zero();  // unweighted J^T J
-  std::size_t pairs = 0;  // points with a reference point within the radius
+  std::size_t pairs = 0;  // points with a reference point within the radius, in H
+  std::size_t near = 0;   // ... and those refused for being seen from the other side
   double sum_r2 = 0;
 };
 
@@ -91,6 +92,7 @@ Accum linearise(
     float d2;
     const std::size_t m = ref.kdTreeClosestPoint2D(static_cast<float>(px), static_cast<float>(py), d2);
     if (d2 > r2max) continue;
+    a.near++;
     const LocalLine& line = normals.lineAt(m);
     // d p / d yaw = R' q
     const double dpx = -s * xs[i] - c * ys[i], dpy = c * xs[i] - s * ys[i];
@@ -195,6 +197,7 @@ RefineResult refinePointToLine(
   a = linearise(ref, cloud, res.pose, p.d_max_final_m, stride, p.huber_m, p.point_weight, normals, viewpoints);
   res.information = a.info;
   res.pairs = a.pairs;
+  res.near = a.near;
   res.rms_m = a.pairs ? std::sqrt(a.sum_r2 / double(a.pairs)) : 0.0;
   Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d> es(a.info.topLeftCorner<2, 2>());
   const double lmax = es.eigenvalues()(1);

@@ -47,6 +47,9 @@ struct RefineResult
   Eigen::Matrix3d information = Eigen::Matrix3d::Zero();  ///< sum of J^T J at the solution (x, y, yaw)
   std::size_t used = 0;    ///< cloud points tried
   std::size_t pairs = 0;   ///< of them paired within the final radius
+  /// of them with a reference point within the final radius: `pairs` plus
+  /// those refused for being seen from the other side of the line
+  std::size_t near = 0;
   unsigned iterations = 0;
   bool converged = false;  ///< the last update was below the convergence step at the final radius
   double last_step_m = 0;  ///< translation of the last update [m]
