@@ -210,8 +210,8 @@ TEST(Projection, SweptPathTiesTheRobotToTheKnownFloor)
   ProjectionParams p;
   const GroundGrid alone = projectToGround(t, robot, p);
   EXPECT_EQ(freeCells(alone), 1u);
-  std::vector<Eigen::Vector2d> swept;
-  for (double x = -1.0; x <= 1.5 + 1e-9; x += 0.05) swept.emplace_back(x, 0.02 * std::sin(4 * x));
+  SweptPath swept;
+  for (double x = -1.0; x <= 1.5 + 1e-9; x += 0.05) swept.emplace_back(x, 0.02 * std::sin(4 * x), 0.0);
   const GroundGrid g = projectToGround(t, robot, p, swept);
   EXPECT_GT(freeCells(g), 1600u);  // the 2 x 2 m known floor, the swept strip
   Cell c;
@@ -223,6 +223,44 @@ TEST(Projection, SweptPathTiesTheRobotToTheKnownFloor)
   EXPECT_EQ(*g.state.cellByIndex(c.cx, c.cy), GroundState::Unknown);
   p.swept_radius_m = 0;  // off
   EXPECT_EQ(freeCells(projectToGround(t, robot, p, swept)), 1u);
+}
+
+// A 2 m corridor, all seen free but for a one-column sliver across it 0.42 m
+// ahead of the omniRob's centre (its cameras look outward from the body's rim
+// and never see the floor under it): alone it cuts the corridor; the floor
+// under the body's rectangle at a swept pose is free, in the body's yaw, and
+// an occupied column there stays occupied.
+TEST(Projection, FloorUnderTheSweptFootprintIsFreeInTheBodysYaw)
+{
+  octomap::OcTree t(0.05);
+  fillBox(t, -2.0, 0.40, -1.0, 1.0, 0.0, 0.6, freeLog(t));
+  fillBox(t, 0.45, 3.0, -1.0, 1.0, 0.0, 0.6, freeLog(t));
+  fillBox(t, 0.40, 0.45, -0.10, -0.05, 0.0, 0.6, occLog(t));
+  const CPose2D robot(0.0, 0.0, 0.0);
+  ProjectionParams p;
+  p.footprint_length_m = 1.2;
+  p.footprint_width_m = 0.712;
+  const auto stateAt = [](const GroundGrid& g, double x, double y)
+  {
+    Cell c;
+    EXPECT_TRUE(cellOf(g.state, Eigen::Vector2d(x, y), c));
+    return *g.state.cellByIndex(c.cx, c.cy);
+  };
+  const GroundGrid along = projectToGround(t, robot, p, {Eigen::Vector3d(0, 0, 0)});
+  EXPECT_EQ(stateAt(along, 0.425, 0.20), GroundState::Free);     // under the body
+  EXPECT_EQ(stateAt(along, 0.425, 0.50), GroundState::Unknown);  // beside it
+  EXPECT_EQ(stateAt(along, 0.425, -0.075), GroundState::Occupied);
+  EXPECT_EQ(stateAt(along, 1.50, 0.0), GroundState::Free);  // the corridor beyond
+
+  // Turned 90 deg the body is 0.356 m wide along x: the sliver is past it.
+  const GroundGrid across = projectToGround(t, robot, p, {Eigen::Vector3d(0, 0, M_PI / 2)});
+  EXPECT_EQ(stateAt(across, 0.425, 0.20), GroundState::Unknown);
+  EXPECT_EQ(stateAt(across, 1.50, 0.0), GroundState::Unknown);
+
+  p.swept_footprint = false;  // the swept_radius_m disc only
+  const GroundGrid disc = projectToGround(t, robot, p, {Eigen::Vector3d(0, 0, 0)});
+  EXPECT_EQ(stateAt(disc, 0.425, 0.20), GroundState::Unknown);
+  EXPECT_EQ(stateAt(disc, 1.50, 0.0), GroundState::Unknown);
 }
 
 TEST(Projection, GridAlignsWithVoxelColumnsAndCoversMarginAndRobot)

@@ -144,7 +144,7 @@ bool tryFrontier(
 PlanResult plan(
     const octomap::OcTree& V, const CPose2D& robot, const PlannerParams& p,
     const std::vector<Eigen::Vector2d>& blacklist, uint64_t step,
-    const std::vector<Eigen::Vector2d>& swept)
+    const SweptPath& swept)
 {
   PlanResult r;
   mrpt::system::CTicTac total, tic;

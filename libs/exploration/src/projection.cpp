@@ -194,23 +194,39 @@ void floodFill(const ColumnTally& tally, int levels, const std::vector<uint8_t>&
     }
   }
 }
-/// 1 for every cell of G within `radius` of a swept point (empty: none).
-std::vector<uint8_t> sweptMask(const GroundGrid& G, const std::vector<Eigen::Vector2d>& swept,
-                               double radius)
+/// 1 for every cell of G within swept_radius_m of a swept pose, or (with
+/// swept_footprint) whose centre lies under the footprint rectangle shrunk by
+/// swept_footprint_margin_m at a swept pose (empty: none). Our own: the
+/// thesis marks no swept floor; see ProjectionParams::swept_footprint.
+std::vector<uint8_t> sweptMask(const GroundGrid& G, const SweptPath& swept,
+                               const ProjectionParams& p)
 {
-  if (swept.empty() || radius <= 0) return {};
+  const double half_l = 0.5 * p.footprint_length_m - p.swept_footprint_margin_m;
+  const double half_w = 0.5 * p.footprint_width_m - p.swept_footprint_margin_m;
+  const bool rect = p.swept_footprint && half_l > 0 && half_w > 0;
+  const double radius = p.swept_radius_m;
+  if (swept.empty() || (radius <= 0 && !rect)) return {};
   const int nx = static_cast<int>(G.state.getSizeX());
   const int ny = static_cast<int>(G.state.getSizeY());
   const double res = G.state.getResolution();
-  const int r = static_cast<int>(std::ceil(radius / res));
+  // The cells within `reach` of a pose hold every cell the disc or the
+  // rectangle can cover.
+  const double reach = std::max(radius, rect ? std::hypot(half_l, half_w) : 0.0);
+  const int r = static_cast<int>(std::ceil(reach / res));
   std::vector<uint8_t> out(static_cast<std::size_t>(nx) * ny, 0);
   for (const auto& q : swept)
   {
+    const double c = std::cos(q.z()), s = std::sin(q.z());
     const int cx = G.state.x2idx(q.x()), cy = G.state.y2idx(q.y());
     for (int y = std::max(0, cy - r); y <= std::min(ny - 1, cy + r); ++y)
       for (int x = std::max(0, cx - r); x <= std::min(nx - 1, cx + r); ++x)
-        if (std::hypot(G.state.idx2x(x) - q.x(), G.state.idx2y(y) - q.y()) <= radius)
-          out[static_cast<std::size_t>(y) * nx + x] = 1;
+      {
+        const double dx = G.state.idx2x(x) - q.x(), dy = G.state.idx2y(y) - q.y();
+        const bool in_disc = std::hypot(dx, dy) <= radius;
+        const bool in_rect =
+            rect && std::abs(c * dx + s * dy) <= half_l && std::abs(-s * dx + c * dy) <= half_w;
+        if (in_disc || in_rect) out[static_cast<std::size_t>(y) * nx + x] = 1;
+      }
   }
   return out;
 }
@@ -242,8 +258,11 @@ void ProjectionParams::loadFromConfigFile(const mrpt::config::CConfigFileBase& c
   MRPT_LOAD_CONFIG_VAR(th_occ, int, c, s);
   MRPT_LOAD_CONFIG_VAR(margin_m, double, c, s);
   MRPT_LOAD_CONFIG_VAR(swept_radius_m, double, c, s);
+  MRPT_LOAD_CONFIG_VAR(swept_footprint, bool, c, s);
+  MRPT_LOAD_CONFIG_VAR(swept_footprint_margin_m, double, c, s);
   using common::requireValid;
   requireValid(swept_radius_m >= 0, c, s, "swept_radius_m", "must be >= 0");
+  requireValid(swept_footprint_margin_m >= 0, c, s, "swept_footprint_margin_m", "must be >= 0");
   region.clear();
   const std::string region_text = c.read_string(s, "region", "");
   std::vector<double> v;
@@ -273,13 +292,15 @@ void ProjectionParams::saveToConfigFile(mrpt::config::CConfigFileBase& c,
   MRPT_SAVE_CONFIG_VAR(th_occ, c, s);
   MRPT_SAVE_CONFIG_VAR(margin_m, c, s);
   MRPT_SAVE_CONFIG_VAR(swept_radius_m, c, s);
+  MRPT_SAVE_CONFIG_VAR(swept_footprint, c, s);
+  MRPT_SAVE_CONFIG_VAR(swept_footprint_margin_m, c, s);
   std::string region_text;
   for (const auto& q : region) region_text += mrpt::format("%s%.4f %.4f", region_text.empty() ? "" : " ", q.x(), q.y());
   c.write(s, "region", region_text);
 }
 
 GroundGrid projectToGround(const octomap::OcTree& V, const mrpt::poses::CPose2D& robot,
-                           const ProjectionParams& p, const std::vector<Eigen::Vector2d>& swept)
+                           const ProjectionParams& p, const SweptPath& swept)
 {
   const double res = V.getResolution();
   octomap::OcTreeKey robot_key;
@@ -309,7 +330,7 @@ GroundGrid projectToGround(const octomap::OcTree& V, const mrpt::poses::CPose2D&
 
   const ColumnTally tally = tallyColumns(V, box, p.th_free / 255.0, p.th_occ / 255.0);
   floodFill(tally, kz_hi - kz_lo + 1, outsideMask(G, p.region),
-            sweptMask(G, swept, p.swept_radius_m), G);
+            sweptMask(G, swept, p), G);
   return G;
 }
 

@@ -4,6 +4,7 @@
 // (navigation::StopAndScanDriver).
 #include <mrpt/core/format.h>
 #include <mrpt/core/bits_math.h>
+#include <mrpt/math/wrap2pi.h>
 #include <mrpt/system/CTicTac.h>
 #include <voxplore/common/config.h>
 #include <voxplore/mission/ExplorationLoop.h>
@@ -204,12 +205,12 @@ void ExplorationLoop::scanAndIntegrate()
   {
     // The poses so far were corrected: the swept path follows them.
     swept_.clear();
-    for (const auto& r : slam_.reports()) addSwept({r.pose.x(), r.pose.y()});
+    for (const auto& r : slam_.reports()) addSwept(r.pose);
     message("stop " + std::to_string(rep.index) + ": " + rep.loop.message +
             (rep.loop.rebuilt ? mrpt::format("; maps rebuilt in %.0f ms", rep.loop.t_rebuild_ms)
                               : std::string()));
   }
-  addSwept({rep.pose.x(), rep.pose.y()});
+  addSwept(rep.pose);
   if (listener_) listener_->onStop(scan, rep);
 }
 
@@ -273,27 +274,36 @@ void ExplorationLoop::registerPlan(const Eigen::Vector2d& target)
   }
 }
 
-void ExplorationLoop::addSwept(const Eigen::Vector2d& e)
+void ExplorationLoop::addSwept(const mrpt::poses::CPose2D& e)
 {
-  // The swept path in the pose estimate, 5 cm apart and continuous across
-  // the jump of a SLAM correction at a stop (the body's true path is
+  // The swept path in the pose estimate, 5 cm and 5 deg apart and continuous
+  // across the jump of a SLAM correction at a stop (the body's true path is
   // continuous; either side of the jump is within the pose error).
+  const Eigen::Vector3d q(e.x(), e.y(), e.phi());
   if (swept_.empty())
   {
-    swept_.push_back(e);
+    swept_.push_back(q);
     return;
   }
-  const double d = (e - swept_.back()).norm();
-  if (d < 0.05) return;
-  const Eigen::Vector2d from = swept_.back();
-  const int n = static_cast<int>(std::ceil(d / 0.05));
-  for (int k = 1; k <= n; ++k) swept_.push_back(from + (e - from) * (double(k) / n));
+  const Eigen::Vector3d from = swept_.back();
+  const double d = std::hypot(q.x() - from.x(), q.y() - from.y());
+  const double dyaw = mrpt::math::wrapToPi(q.z() - from.z());
+  const double kYawStep = mrpt::DEG2RAD(5.0);
+  if (d < 0.05 && std::abs(dyaw) < kYawStep) return;
+  const int n = std::max(static_cast<int>(std::ceil(d / 0.05)),
+                         static_cast<int>(std::ceil(std::abs(dyaw) / kYawStep)));
+  for (int k = 1; k <= n; ++k)
+  {
+    const double t = double(k) / n;
+    swept_.emplace_back(from.x() + (q.x() - from.x()) * t, from.y() + (q.y() - from.y()) * t,
+                        mrpt::math::wrapToPi(from.z() + dyaw * t));
+  }
 }
 
 void ExplorationLoop::onRobotStep()
 {
   const auto est = poseEstimate();  // the estimate the navigator drives by
-  addSwept({est.x(), est.y()});
+  addSwept(est);
   status_.path_length_m += std::hypot(est.x() - last_estimate_.x(), est.y() - last_estimate_.y());
   last_estimate_ = est;
   if (listener_) listener_->onRobotStep();

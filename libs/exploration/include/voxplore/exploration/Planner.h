@@ -86,7 +86,7 @@ struct PlanResult
 PlanResult plan(
     const octomap::OcTree& V, const mrpt::poses::CPose2D& robot, const PlannerParams& params,
     const std::vector<Eigen::Vector2d>& blacklist = {}, uint64_t step = 0,
-    const std::vector<Eigen::Vector2d>& swept = {});
+    const SweptPath& swept = {});
 
 /// @brief PNG of G with its layers in the thesis' colours (fig. 4.12): free
 ///        white, occupied black, unknown red, collision grey, maybe-collision

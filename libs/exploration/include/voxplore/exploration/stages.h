@@ -19,6 +19,10 @@ class OcTree;
 
 namespace voxplore::exploration
 {
+/// @brief Poses (x, y, yaw) [m, m, rad] the robot's centre has occupied, in the
+///        map frame: the floor under its body there is free.
+using SweptPath = std::vector<Eigen::Vector3d>;
+
 // ---------------------------------------------------------------- 1. projection
 /// @brief ini section [projection].
 struct ProjectionParams : public mrpt::config::CLoadableOptions
@@ -38,6 +42,16 @@ struct ProjectionParams : public mrpt::config::CLoadableOptions
   /// blind within ~1 m, left a ring of unknown round it (after stops that
   /// were not integrated). 0 = off [m].
   double swept_radius_m = 0.15;
+  /// The robot's footprint (length along its +X, width) [m]; not an ini key,
+  /// set from the robot profile. With swept_footprint, the columns under
+  /// this rectangle at every swept pose, shrunk by swept_footprint_margin_m
+  /// on each side, count as free unless occupied too: the cameras look
+  /// outward from the body's rim and never see the floor under it, and the
+  /// omniRob's blind slivers there (0.3 m from its centre, across a 2 m
+  /// corridor) closed the corridor to its planner (generated building 7).
+  double footprint_length_m = 0, footprint_width_m = 0;
+  bool swept_footprint = true;           ///< false: swept_radius_m only (the thesis has neither)
+  double swept_footprint_margin_m = 0.05;  ///< the rectangle is shrunk by this on each side [m]
   void loadFromConfigFile(const mrpt::config::CConfigFileBase& c, const std::string& s) override;
   void saveToConfigFile(mrpt::config::CConfigFileBase& c, const std::string& s) const override;
 };
@@ -59,7 +73,7 @@ struct GroundGrid
 ///        the robot; its resolution is V's.
 GroundGrid projectToGround(
     const octomap::OcTree& V, const mrpt::poses::CPose2D& robot, const ProjectionParams& p,
-    const std::vector<Eigen::Vector2d>& swept = {});
+    const SweptPath& swept = {});
 
 // ------------------------------------------------------------ 2. collision space
 /// @brief ini section [collision].

@@ -170,9 +170,9 @@ class ExplorationLoop
 
   const ExplorationStatus& status() const { return status_; }
   const mapping::SlamIcp& slam() const { return slam_; }
-  /// @brief The estimated path of the robot centre (map frame, 5 cm apart):
-  ///        the planner's swept floor.
-  const std::vector<Eigen::Vector2d>& sweptPath() const { return swept_; }
+  /// @brief The estimated poses of the robot (map frame, 5 cm apart): the
+  ///        planner's swept floor.
+  const exploration::SweptPath& sweptPath() const { return swept_; }
   /// @brief Frontier centres given up (map frame).
   const std::vector<Eigen::Vector2d>& blacklist() const { return blacklist_; }
   /// @brief The pose the navigator drives by: the SLAM pose at the last
@@ -192,7 +192,7 @@ class ExplorationLoop
   void registerFailure(const Eigen::Vector2d& target);
   /// Counts a plan for the frontier at `target`; blacklists it after max_plans_per_target.
   void registerPlan(const Eigen::Vector2d& target);
-  void addSwept(const Eigen::Vector2d& e);
+  void addSwept(const mrpt::poses::CPose2D& e);
   void onRobotStep();
   void message(const std::string& line);
   /// The listener's stop reason, max_steps (only `between_steps`), or the
@@ -215,7 +215,7 @@ class ExplorationLoop
   std::vector<Eigen::Vector2d> blacklist_;
   TargetCounts failures_;  ///< failed drives per frontier
   TargetCounts plans_;     ///< plans so far per frontier
-  std::vector<Eigen::Vector2d> swept_;
+  exploration::SweptPath swept_;
   ExplorationStatus status_;
 };
 
