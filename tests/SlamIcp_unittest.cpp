@@ -229,6 +229,39 @@ TEST(PlanarIcp, AWallSeenFromItsOtherSideDoesNotSlideOntoTheFaceSeenFirst)
                std::invalid_argument);
 }
 
+TEST(PlanarIcp, APointRefusedOnlyForItsSideStillCountsTowardsGoodness)
+{
+  // A thin panel at x = 0 and walls at y = 3 and x = 3, all in the map as
+  // seen from (-1, 0). The robot stands at (1, 0), on the panel's other side: its panel
+  // points lie on the map but are refused as pairs (other side); only the
+  // walls' points enter the least squares. Every point lies on the map, so
+  // the goodness is ~1 (it was the paired share, ~0.5: an omniRob's turn by a
+  // door jamb fell below min_goodness and was rejected).
+  mrpt::maps::CSimplePointsMap ref, cloud;
+  mapping::Viewpoints views;
+  const CPose2D B(1.0, 0.0, 0.0);
+  for (double s = -2.0; s <= 2.0 + 1e-9; s += 0.02)
+  {
+    ref.insertPoint(0.0f, static_cast<float>(s), 0.0f);
+    ref.insertPoint(static_cast<float>(s), 3.0f, 0.0f);
+    views.emplace_back(-1.0f, 0.0f);
+    views.emplace_back(-1.0f, 0.0f);
+    const double o = s + 0.01;  // the cloud's samples fall between the map's
+    cloud.insertPoint(static_cast<float>(0.0 - B.x()), static_cast<float>(o - B.y()), 0.0f);
+    cloud.insertPoint(static_cast<float>(o - B.x()), static_cast<float>(3.0 - B.y()), 0.0f);
+    if (std::abs(s) > 1.0 + 1e-9) continue;
+    ref.insertPoint(3.0f, static_cast<float>(s), 0.0f);
+    views.emplace_back(-1.0f, 0.0f);
+    cloud.insertPoint(static_cast<float>(3.0 - B.x()), static_cast<float>(o - B.y()), 0.0f);
+  }
+  mapping::IcpParams p;
+  const auto r = mapping::alignPlanar(ref, cloud, B + CPose2D(0.02, -0.02, 0.0), p, &views);
+  EXPECT_TRUE(r.accepted) << r.reason;
+  EXPECT_GT(r.goodness, 0.95);
+  EXPECT_LT(double(r.pairs), 0.7 * double(cloud.size()));  // the panel's points are no pairs
+  EXPECT_LT(std::hypot(r.pose.x() - B.x(), r.pose.y() - B.y()), 0.01);
+}
+
 TEST(SlamIcp, ALargeOdometryErrorIsTakenWhenTheNextStopConfirmsIt)
 {
   // Odometry turns 12 deg off during the drive to stop 2 (over [icp]
