@@ -115,5 +115,37 @@ grep -q "no_such_world" "$TMP/compare.md" || fail "compare: the failed run is no
 "$REPO/scripts/campaign_compare.py" "$OUT" "$TMP/no_such_runs.csv" > /dev/null 2>&1 \
   && fail "compare: a missing runs.csv is not an error"
 
+# scripts/check_loops.py: the campaign's runs (dlr_test_room: no loop), then a
+# made-up run of 4 stops in a world frame turned 90 deg, whose closure joins
+# stop 3 to stop 0: once right, once placed 1 m off (a look-alike room).
+"$REPO/scripts/check_loops.py" "$OUT" --out "$TMP/loops.md" || fail "check_loops.py failed on the campaign"
+grep -q "0 closure(s), 0 suspect" "$TMP/loops.md" || fail "check_loops: $(head -3 "$TMP/loops.md")"
+for v in right false; do
+  mkdir -p "$TMP/loops_$v"
+  python3 - "$TMP/loops_$v" "$v" <<'EOF'
+import math, sys
+d, v = sys.argv[1], sys.argv[2]
+truth = [(0, 0, 0), (2, 0, 90), (2, 2, 180), (0.1, 2.2, 270)]  # map frame
+off = 1.0 if v == "false" else 0.01
+with open(d + "/stops.csv", "w") as f:
+    f.write("stop,x,y,yaw_deg,loop_closed,loop_with_stop,loop_correction_m,graph_shift_max_m\n")
+    for k, (x, y, a) in enumerate(truth):
+        if k == 3:
+            y -= off
+        f.write("%d,%f,%f,%f,%d,%s,0.1,0.1\n" % (k, x, y, a, k == 3, "0" if k == 3 else ""))
+with open(d + "/trajectory_gt.tum", "w") as f:  # world = map turned 90 deg, shifted
+    for k, (x, y, a) in enumerate(truth):
+        wx, wy, wa = 5 - y, 1 + x, math.radians(a + 90)
+        f.write("%d %f %f 0 0 0 %f %f\n" % (k, wx, wy, math.sin(wa / 2), math.cos(wa / 2)))
+EOF
+done
+"$REPO/scripts/check_loops.py" "$TMP/loops_right" --fail-on-suspect > "$TMP/right.md" \
+  || fail "check_loops: the right closure is suspect: $(cat "$TMP/right.md")"
+grep -q "1 closure(s), 0 suspect" "$TMP/right.md" || fail "check_loops: $(cat "$TMP/right.md")"
+"$REPO/scripts/check_loops.py" "$TMP/loops_false" --fail-on-suspect > "$TMP/false.md" \
+  && fail "check_loops: the false closure passed: $(cat "$TMP/false.md")"
+grep -q "1 closure(s), 1 suspect" "$TMP/false.md" || fail "check_loops: $(cat "$TMP/false.md")"
+"$REPO/scripts/check_loops.py" "$TMP/no_such_dir" > /dev/null 2>&1 && fail "check_loops: a missing directory is not an error"
+
 ok=1
 echo "campaign_test: PASS"
