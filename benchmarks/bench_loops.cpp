@@ -400,9 +400,9 @@ void runLoopsTable(const SlamBenchData& data, const SlamBenchOptions& opts,
       [](const LoopColumn& c) { return fixed(medianOr0(c.submap_keyframes), 0); });
   row("submap points (median)",
       [](const LoopColumn& c) { return fixed(medianOr0(c.submap_points), 0); });
-  row("detection, from the true pose [ms]",
+  row("detection from the true pose [ms]",
       [](const LoopColumn& c) { return fixed(medianOr0(c.detect_true_ms), 1); });
-  row("detection, search from drift [ms]",
+  row("detection: search from drift [ms]",
       [](const LoopColumn& c) { return fixed(medianOr0(c.detect_search_ms), 1); });
   row("graph nodes / edges (loop edges)",
       [](const LoopColumn& c)
@@ -435,7 +435,7 @@ void runLoopsTable(const SlamBenchData& data, const SlamBenchOptions& opts,
       [](const LoopColumn& c) { return fixed(c.tools_kb, 1); });
   row("memory/kf: graph node + edge [B]",
       [&](const LoopColumn&) { return fixed(node_b + edge_b, 0); });
-  row("memory/kf: RSS growth, LoopCloser [kB]",
+  row("memory/kf: RSS growth of the LoopCloser [kB]",
       [](const LoopColumn& c) { return fixed(c.rss_per_kf_kb, 1); });
   row("OctoMap after rebuild [MB]", [](const LoopColumn& c) { return fixed(c.octomap_mb, 1); });
   row("metaview points after rebuild",
