@@ -11,6 +11,7 @@
 #include <cmath>
 #include <filesystem>
 #include <iostream>
+#include <limits>
 #include <map>
 #include <stdexcept>
 
@@ -199,7 +200,7 @@ SlamBenchData loadSlamBenchData(const SlamBenchOptions& opts)
       });
   if (d.stops.empty())
     throw std::runtime_error(opts.rawlog + ": no CObservation3DRangeScan with a range image");
-  if (d.stops.size() < opts.stops)
+  if (d.stops.size() < opts.stops && opts.stops != std::numeric_limits<std::size_t>::max())
     std::cerr << "voxplore-bench: warning: " << opts.rawlog << " holds only " << d.stops.size()
               << " stops (asked for " << opts.stops << ")\n";
 

@@ -5,6 +5,8 @@
 //   slam-dmin         table 5.1 only
 //   slam-integration  the table 5.2 row only (poses: ICP replay at d_min 20 mm, or --poses gt)
 //   registration      each stop's ICP alone: against the ground-truth map of the stops before it
+//   loops             loop closure (issue 11): detection, relaxation and map rebuild time and
+//                     memory against the number of keyframes (all stops of --rawlog)
 //   planner           table 5.2's planner rows (projection ... path) beside the naive scan rating
 //   all               every set above
 //   strategies        exploration end to end, nbv beside nearest on every world (issue 5;
@@ -16,16 +18,19 @@
 #include <voxplore/apps/app_common.h>
 #include <voxplore/common/config.h>
 
+#include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <functional>
 #include <iostream>
+#include <limits>
 #include <sstream>
 
+#include "bench_loops.h"
 #include "bench_planner.h"
+#include "bench_registration.h"
 #include "bench_slam.h"
 #include "bench_strategies.h"
-#include "bench_registration.h"
 #include "bench_table.h"
 
 using namespace voxplore;
@@ -42,7 +47,11 @@ const char* kDescription =
     "voxplore-explore on every world with --strategy nbv beside nearest (steps, travel, "
     "coverage, compute time; shared worlds from simulated_worlds/shared_world_starts.txt); "
     "'registration' = each stop's ICP alone, against the ground-truth map of the stops before "
-    "it (--rawlog, --gt, --stops, --config). Run it "
+    "it (--rawlog, --gt, --stops, --config); 'loops' = issue 11's loop closure cost against the "
+    "number of keyframes (--keyframes, default 100,500,1000,2000, keyframe k = stop k mod M of "
+    "--rawlog at its ground-truth pose): detection against all old keyframes, the pose graph's "
+    "relaxation, the metaview + OctoMap rebuild, memory per keyframe (reads every stop: -n is "
+    "ignored; --revisits loop closures per column; --repeat). Run it "
     "pinned to one core in a Release build: "
     "taskset -c 1 build/bin/voxplore-bench";
 
@@ -51,6 +60,7 @@ struct BenchOptions
 {
   bench::SlamBenchOptions slam;
   bench::StrategyBenchOptions strategies;
+  bench::LoopBenchOptions loops;
 };
 
 /// A named set of tables.
@@ -108,6 +118,13 @@ std::vector<TableSet> tables()
        { bench::runStrategiesTable(o.strategies, out); }},
       {"registration", [](const BenchOptions& o, std::ostream& out)
        { bench::runRegistrationTable(bench::loadSlamBenchData(o.slam), o.slam, out); }},
+      {"loops",
+       [](const BenchOptions& o, std::ostream& out)
+       {
+         auto all = o.slam;
+         all.stops = std::numeric_limits<std::size_t>::max();  // every stop of the rawlog
+         bench::runLoopsTable(bench::loadSlamBenchData(all), all, o.loops, out);
+       }},
   };
 }
 
@@ -189,6 +206,12 @@ int run(int argc, char** argv)
                                  "strategies: planning steps at most per run (overrides "
                                  "[explore] max_steps of config/explore.ini)",
                                  false, 0, "N", cmd);
+  TCLAP::ValueArg<std::string> keyframes("", "keyframes", "loops: keyframe counts, one column each",
+                                         false, "100,500,1000,2000", "LIST", cmd);
+  TCLAP::ValueArg<std::size_t> revisits("", "revisits",
+                                        "loops: loop closures per column (revisits are tried until "
+                                        "this many closed, at most 4x as many)",
+                                        false, bench::LoopBenchOptions{}.queries, "N", cmd);
   TCLAP::SwitchArg quiet("q", "quiet", "No progress or parameters on stderr", cmd);
   if (!cmd.parse(argc, argv)) return apps::exitCodeAfterFailedParse(argc, argv);
 
@@ -219,6 +242,18 @@ int run(int argc, char** argv)
   if (max_steps.isSet()) o.strategies.max_steps = max_steps.getValue();
   o.strategies.csv_dir = o.slam.csv_dir;
   o.strategies.quiet = o.slam.quiet;
+
+  o.loops.keyframes.clear();
+  for (const double n : common::parseNumberList(keyframes.getValue(), "--keyframes"))
+  {
+    if (!(n >= 2) || n != std::floor(n))
+      throw std::runtime_error("--keyframes: " + bench::fixed(n, 3) +
+                               " is not a whole number >= 2");
+    o.loops.keyframes.push_back(static_cast<std::size_t>(n));
+  }
+  if (o.loops.keyframes.empty()) throw std::runtime_error("--keyframes: empty list");
+  if (revisits.getValue() == 0) throw std::runtime_error("--revisits must be at least 1");
+  o.loops.queries = revisits.getValue();
 
   printHeader(table, std::cout);
   for (const auto& s : sets)
