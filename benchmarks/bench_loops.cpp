@@ -64,18 +64,6 @@ double xyDist(const CPose2D& a, const CPose2D& b)
   return std::hypot(a.x() - b.x(), a.y() - b.y());
 }
 
-CPose2D groundTruth2D(const SlamBenchData& data, const RecordedStop& s)
-{
-  const double t = mrpt::Clock::toDouble(s.timestamp);
-  const auto it = std::min_element(data.ground_truth.begin(), data.ground_truth.end(),
-                                   [t](const auto& a, const auto& b)
-                                   { return std::abs(a.t - t) < std::abs(b.t - t); });
-  if (it == data.ground_truth.end() || std::abs(it->t - t) > 1e-3)
-    throw std::runtime_error("loops: no ground-truth pose for rawlog entry " +
-                             std::to_string(s.entry) + " in '" + data.ground_truth_path + "'");
-  return CPose2D(it->pose.x(), it->pose.y(), it->pose.yaw());
-}
-
 /// Bytes a depth observation holds: range image, other layers, intensity and
 /// confidence images, points3D.
 double scanBytes(const mrpt::obs::CObservation3DRangeScan& s)
@@ -119,7 +107,7 @@ std::vector<Stop> prepareStops(const SlamBenchData& data, bool quiet)
   for (const auto& s : data.stops)
   {
     Stop st;
-    st.gt = groundTruth2D(data, s);
+    st.gt = CPose2D(groundTruthOf(data, s, "loops"));
     st.path_m = stops.empty() ? 0.0 : stops.back().path_m + xyDist(stops.back().gt, st.gt);
     st.scans = mapping::usableDepthScans(*s.observations, p.cloud).scans;
     const auto cloud = mapping::buildRobotCloud(st.scans, p.cloud);

@@ -29,19 +29,6 @@ using mrpt::poses::CPose2D;
 
 namespace
 {
-/// The ground-truth pose of a stop (the TUM row at its timestamp), planar.
-CPose2D groundTruth2D(const SlamBenchData& data, const RecordedStop& s)
-{
-  const double t = mrpt::Clock::toDouble(s.timestamp);
-  const auto it = std::min_element(data.ground_truth.begin(), data.ground_truth.end(),
-                                   [t](const auto& a, const auto& b)
-                                   { return std::abs(a.t - t) < std::abs(b.t - t); });
-  if (it == data.ground_truth.end() || std::abs(it->t - t) > 1e-3)
-    throw std::runtime_error("registration: no ground-truth pose for rawlog entry " +
-                             std::to_string(s.entry) + " in '" + data.ground_truth_path + "'");
-  return CPose2D(it->pose.x(), it->pose.y(), it->pose.yaw());
-}
-
 double percentile(std::vector<double> v, double q)
 {
   if (v.empty()) return 0;
@@ -64,7 +51,7 @@ RegistrationErrors measureRegistration(const SlamBenchData& data, const std::fun
     const auto& s = data.stops[k];
     auto odo = odometry_reader.odometryOf(s.actions.get(), *s.observations);
     if (!odo) odo = odo_prev ? *odo_prev : CPose2D();
-    const CPose2D gt = groundTruth2D(data, s);
+    const CPose2D gt = CPose2D(groundTruthOf(data, s, "registration"));
     const auto usable = mapping::usableDepthScans(*s.observations, data.params.cloud);
     const auto cloud = mapping::buildRobotCloud(usable.scans, data.params.cloud);
     if (k > 0 && !metaview.empty())

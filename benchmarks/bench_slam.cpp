@@ -52,15 +52,6 @@ struct DminColumn
   std::vector<CPose3D> poses;
 };
 
-std::optional<CPose3D> groundTruthAt(const std::vector<common::StampedPose>& gt, double t)
-{
-  const auto it = std::min_element(gt.begin(), gt.end(),
-                                   [t](const auto& a, const auto& b)
-                                   { return std::abs(a.t - t) < std::abs(b.t - t); });
-  if (it == gt.end() || std::abs(it->t - t) > 1e-3) return std::nullopt;
-  return it->pose;
-}
-
 /// Fills the timing means of one repetition into the per-repetition vectors.
 void addTimings(const std::vector<mapping::StopReport>& reports, std::vector<double>& metaview_ms,
                 std::vector<double>& icp_ms, std::vector<double>& stop_ms)
@@ -271,14 +262,7 @@ std::vector<CPose3D> integrationPoses(const SlamBenchData& data, const SlamBench
   if (opts.poses_from_gt)
   {
     std::vector<CPose3D> poses;
-    for (const auto& s : data.stops)
-    {
-      const auto p = groundTruthAt(data.ground_truth, mrpt::Clock::toDouble(s.timestamp));
-      if (!p)
-        throw std::runtime_error("--poses gt: no ground-truth pose for rawlog entry " +
-                                 std::to_string(s.entry) + " in '" + data.ground_truth_path + "'");
-      poses.push_back(*p);
-    }
+    for (const auto& s : data.stops) poses.push_back(groundTruthOf(data, s, "--poses gt"));
     return poses;
   }
   if (!icp_poses.empty()) return icp_poses;
@@ -287,6 +271,19 @@ std::vector<CPose3D> integrationPoses(const SlamBenchData& data, const SlamBench
   params.metaview.d_min_m = kPoseDminM;
   for (const auto& r : replay(data, params)) icp_poses.emplace_back(r.pose);
   return icp_poses;
+}
+
+CPose3D groundTruthOf(const SlamBenchData& data, const RecordedStop& stop, const std::string& what)
+{
+  const double t = mrpt::Clock::toDouble(stop.timestamp);
+  const auto& gt = data.ground_truth;
+  const auto it = std::min_element(gt.begin(), gt.end(),
+                                   [t](const auto& a, const auto& b)
+                                   { return std::abs(a.t - t) < std::abs(b.t - t); });
+  if (it == gt.end() || std::abs(it->t - t) > 1e-3)
+    throw std::runtime_error(what + ": no ground-truth pose for rawlog entry " +
+                             std::to_string(stop.entry) + " in '" + data.ground_truth_path + "'");
+  return it->pose;
 }
 
 }  // namespace voxplore::bench

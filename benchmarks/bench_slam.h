@@ -59,6 +59,14 @@ struct SlamBenchData
   std::string ground_truth_path;                  ///< empty when none was found
 };
 
+/// @brief The ground-truth pose of a stop: the TUM row at its timestamp
+///        (within 1 ms).
+/// @param what names the caller in the error
+/// @throws std::runtime_error "WHAT: no ground-truth pose for rawlog entry N
+///         in 'FILE'" when there is none
+mrpt::poses::CPose3D groundTruthOf(const SlamBenchData& data, const RecordedStop& stop,
+                                   const std::string& what);
+
 /// @brief Reads the first opts.stops stops with depth images, the parameters
 ///        and the ground truth (optional unless named on the command line).
 /// @throws std::runtime_error naming the file when the rawlog, config or a
