@@ -127,6 +127,12 @@ TEST(Explore, DlrTestRoomIsExploredCompletelySafelyAndAccurately)
   EXPECT_EQ(j["termination_reason"].get<std::string>(), s.termination_reason);
   EXPECT_EQ(j["steps"].get<std::size_t>(), s.steps);
   EXPECT_NEAR(j["coverage_2d"].get<double>(), s.coverage_2d, 1e-6);
+  // Where the run came closest to the world, and where each refused step was.
+  ASSERT_TRUE(j["min_clearance_pose"].is_array());
+  EXPECT_EQ(j["min_clearance_pose"].size(), 3u);
+  EXPECT_NEAR(j["min_clearance_pose"][0].get<double>(), s.min_clearance_pose[0], 1e-3);
+  ASSERT_TRUE(j["collision_poses"].is_array());
+  EXPECT_EQ(j["collision_poses"].size(), s.collisions);
 
   // Control for map_precision: above the floor (whose voxels are most of the
   // map and match the ground plane under any shift) the written map.bt agrees

@@ -109,6 +109,8 @@ TEST(OmniRobot, CollisionStopsTheRobotInFrontOfAWall)
     for (int i = 0; i < 200 && !stopped; i++) stopped = r.step(vx, vy, 0, 0.05, rng, &checker).collided;
     EXPECT_TRUE(stopped) << deg;
     EXPECT_EQ(r.collisions(), 1u);
+    ASSERT_EQ(r.collisionPoses().size(), 1u);  // logged where the robot stood
+    EXPECT_NEAR(r.collisionPoses()[0].x(), r.groundTruth().x(), 1e-12);
     const double half_extent = std::abs(0.6 * std::cos(yaw)) + std::abs(0.356 * std::sin(yaw));
     EXPECT_LT(r.groundTruth().x() + half_extent, 3.0) << deg;          // never inside the wall
     EXPECT_GT(r.groundTruth().x() + half_extent, 3.0 - 0.026) << deg;  // stopped within one step

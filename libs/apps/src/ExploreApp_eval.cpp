@@ -125,23 +125,26 @@ double coverage3d(
   return double(seen) / double(band.size());
 }
 
-double minClearance(
+ClearanceMin minClearance(
     const sim::CollisionChecker& checker, const sim::Footprint& footprint,
     const std::vector<mrpt::poses::CPose2D>& trajectory_world, double cap_m)
 {
-  double best = cap_m;
-  for (const auto& p : trajectory_world)
+  ClearanceMin best;
+  best.clearance_m = cap_m;
+  if (!trajectory_world.empty()) best.pose_world = trajectory_world.front();
+  for (std::size_t i = 0; i < trajectory_world.size(); i++)
   {
-    if (checker.collides(p, footprint)) return 0.0;
+    const auto& p = trajectory_world[i];
+    if (checker.collides(p, footprint)) return {0.0, i, p};
     // Only a margin below the best so far can lower the minimum.
-    if (!collidesGrown(checker, footprint, p, best)) continue;
-    double lo = 0, hi = best;
+    if (!collidesGrown(checker, footprint, p, best.clearance_m)) continue;
+    double lo = 0, hi = best.clearance_m;
     while (hi - lo > 1e-3)
     {
       const double mid = 0.5 * (lo + hi);
       (collidesGrown(checker, footprint, p, mid) ? hi : lo) = mid;
     }
-    best = lo;
+    best = {lo, i, p};
   }
   return best;
 }

@@ -54,8 +54,15 @@ void writeCoverageMap(
 ///        touches an obstacle (CollisionChecker::collides), to 1 mm. The
 ///        grown rectangle covers the true d-offset shape, so the value is a
 ///        lower bound within the rectangle's corner rounding.
-/// @return 0 when a pose collides; `cap_m` when nothing is within cap_m
-double minClearance(
+/// @brief The smallest clearance along a trajectory and where it was.
+struct ClearanceMin
+{
+  double clearance_m = 0;           ///< 0 when a pose collides; cap_m when nothing was within it
+  std::size_t index = 0;            ///< trajectory index of the first pose at that clearance
+  mrpt::poses::CPose2D pose_world;  ///< that pose
+};
+/// @return the minimum and its pose (the first pose when nothing is within cap_m)
+ClearanceMin minClearance(
     const sim::CollisionChecker& checker, const sim::Footprint& footprint,
     const std::vector<mrpt::poses::CPose2D>& trajectory_world, double cap_m = 2.0);
 

@@ -1,5 +1,6 @@
 // voxplore-explore: outputs (logs, coverage.csv, coverage.png, step images,
 // summary.json) and the ground-truth evaluation of a finished run.
+#include <mrpt/core/bits_math.h>
 #include <mrpt/core/format.h>
 #include <mrpt/img/CImage.h>
 #include <mrpt/system/CTicTac.h>
@@ -8,6 +9,7 @@
 #include <voxplore/eval/trajectory_error.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdlib>
 #include <cstring>
@@ -124,6 +126,16 @@ void writeCoveragePlot(const std::vector<double>& coverage, const std::string& p
   }
   if (!img.saveToFile(png_path)) throw std::runtime_error("cannot write '" + png_path + "'");
 }
+
+std::string jsonPose(const std::array<double, 3>& p)
+{
+  return mrpt::format("[%.4f, %.4f, %.2f]", p[0], p[1], p[2]);
+}
+
+std::array<double, 3> poseArray(const mrpt::poses::CPose2D& p)
+{
+  return {p.x(), p.y(), mrpt::RAD2DEG(p.phi())};
+}
 }  // namespace
 
 void writeExploreSummary(const ExploreSummary& s, const std::string& path)
@@ -147,7 +159,12 @@ void writeExploreSummary(const ExploreSummary& s, const std::string& path)
     << ",\n  \"coverage_3d\": " << s.coverage_3d
     << ",\n  \"map_precision\": " << s.map_precision
     << ",\n  \"map_precision_above_floor\": " << s.map_precision_above_floor << ",\n  \"collisions\": " << s.collisions
-    << ",\n  \"min_clearance_m\": " << s.min_clearance_m << ",\n  \"ate_rmse_m\": " << s.ate_rmse_m
+    << ",\n  \"min_clearance_m\": " << s.min_clearance_m
+    << ",\n  \"min_clearance_pose\": " << jsonPose(s.min_clearance_pose)
+    << ",\n  \"collision_poses\": [";
+  for (std::size_t i = 0; i < s.collision_poses.size(); i++)
+    f << (i ? ", " : "") << jsonPose(s.collision_poses[i]);
+  f << "],\n  \"ate_rmse_m\": " << s.ate_rmse_m
     << ",\n  \"compute_s\": " << s.compute_s << ",\n  \"sim_time_s\": " << s.sim_time_s
     << ",\n  \"peak_rss_mb\": " << s.peak_rss_mb << "\n}\n";
 }
@@ -270,8 +287,12 @@ void ExploreRun::finish()
     s_.relocalized_stops += r.relocalized;
     for (const auto& i : r.camera_issues) s_.skipped_cameras += i.skipped;
   }
-  s_.min_clearance_m =
+  const auto clear =
       explore_detail::minClearance(sim_.checker(), cfg_.sim.robot.footprint(), gt_path_);
+  s_.min_clearance_m = clear.clearance_m;
+  s_.min_clearance_pose = poseArray(clear.pose_world);
+  s_.collision_poses.clear();
+  for (const auto& p : sim_.robot().collisionPoses()) s_.collision_poses.push_back(poseArray(p));
   const fs::path dir(out_dir_);
   s_.ate_rmse_m = eval::trajectoryError(common::readTum((dir / "trajectory_est.tum").string()),
                                         common::readTum((dir / "trajectory_gt.tum").string()))

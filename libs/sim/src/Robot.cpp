@@ -124,6 +124,7 @@ OmniRobot::StepResult OmniRobot::step(
   if (checker && checker->collides(next, params_.footprint()))
   {
     collisions_++;
+    collision_poses_.push_back(gt_);
     r.collided = true;
     return r;
   }

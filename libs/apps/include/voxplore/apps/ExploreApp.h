@@ -4,9 +4,11 @@
 #include <mrpt/config/CLoadableOptions.h>
 #include <voxplore/mission/ExplorationLoop.h>
 
+#include <array>
 #include <cstddef>
 #include <optional>
 #include <string>
+#include <vector>
 
 namespace voxplore::apps
 {
@@ -70,6 +72,8 @@ struct ExploreSummary
   double map_precision_above_floor = 0;  ///< the same for voxels above the floor (z > l_res)
   std::size_t collisions = 0;      ///< simulator steps refused because they would collide
   double min_clearance_m = 0;      ///< footprint-to-world distance minimum along the true path [m]
+  std::array<double, 3> min_clearance_pose{};  ///< world pose (x [m], y [m], yaw [deg]) where that minimum was
+  std::vector<std::array<double, 3>> collision_poses;  ///< world pose (x, y, yaw [deg]) before each refused step
   double ate_rmse_m = 0;           ///< absolute trajectory error of the SLAM poses at stops [m]
   double compute_s = 0;            ///< wall time of SLAM + planning [s]
   double sim_time_s = 0;           ///< simulated time [s]
