@@ -20,11 +20,13 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <functional>
 #include <iostream>
 #include <memory>
 #include <optional>
 #include <vector>
 
+#include "FootprintGuard.h"  // libs/navigation/src (internal)
 #include "test_worlds.h"
 
 using namespace voxplore;
@@ -101,7 +103,8 @@ struct SimRig
 
   explicit SimRig(const std::string& profile, const std::string& world = testRoom(),
                   const std::optional<mrpt::poses::CPose2D>& start = std::nullopt,
-                  std::optional<double> shape_margin_m = std::nullopt)
+                  std::optional<double> shape_margin_m = std::nullopt,
+                  const std::function<void(DriverParams&)>& tweak = {})
   {
     cfg = sim::SimConfig::defaults(profile);
     sim = std::make_unique<sim::Simulator>(sim::loadWorld(world, start), cfg.robot, cfg.cameras,
@@ -111,6 +114,7 @@ struct SimRig
     if (shape_margin_m) p.shape_margin_m = *shape_margin_m;
     p.max_v_mps = cfg.robot.max_v_mps;
     p.max_w = cfg.robot.max_w;
+    if (tweak) tweak(p);
     driver = std::make_unique<StopAndScanDriver>(*robot, p);
   }
   std::size_t collisions() const { return sim->robot().collisions(); }
@@ -552,6 +556,105 @@ TEST(StopAndScanDriver, EscapeBacksOffFromAWallAtTheCircle)
   const auto again = rig.driver->escape();
   EXPECT_EQ(again.outcome, DriveOutcome::Reached);
   EXPECT_LT(again.distance_m, 1e-9);
+}
+
+// ------------------------------------------- the footprint guard
+
+TEST(FootprintGuard, ClearanceOfTheRotatedRectangleAndThePoseAfterATwist)
+{
+  using navigation::detail::poseAfter;
+  using navigation::detail::rectangleClearance;
+  using P = mrpt::poses::CPose2D;
+  const double hl = 0.6, hw = 0.356;  // the omniRob
+  EXPECT_NEAR(rectangleClearance({{1.0, 0.0}}, hl, hw, P()), 0.4, 1e-12);
+  EXPECT_NEAR(rectangleClearance({{0.7, 0.456}}, hl, hw, P()), std::hypot(0.1, 0.1), 1e-12);
+  EXPECT_EQ(rectangleClearance({{0.5, -0.3}, {3.0, 0.0}}, hl, hw, P()), 0.0);  // inside
+  EXPECT_NEAR(rectangleClearance({{1.0, 0.0}}, hl, hw, P(0, 0, M_PI / 2)), 1.0 - hw, 1e-12);
+  EXPECT_NEAR(rectangleClearance({{1.0, 0.0}, {0.0, -0.5}}, hl, hw, P(0.2, 0, 0)), 0.144, 1e-12);
+  EXPECT_TRUE(std::isinf(rectangleClearance({}, hl, hw, P())));
+  const P a = poseAfter(0.5, 0.0, 0.0, 0.4);
+  EXPECT_NEAR(a.x(), 0.2, 1e-12);
+  EXPECT_NEAR(a.y(), 0.0, 1e-12);
+  const P b = poseAfter(0.0, 0.0, 0.5, 2.0);  // a turn in place stays in place
+  EXPECT_NEAR(b.norm(), 0.0, 1e-12);
+  EXPECT_NEAR(b.phi(), 1.0, 1e-12);
+}
+
+TEST(StopAndScanDriver, GuardHoldsTheFootprintItsMarginFromAWallTheWaypointIsTooCloseTo)
+{
+  // Compact robot (0.50 x 0.36 m) facing the room's east wall (face at
+  // x = 3.925); the waypoint is 0.35 m from it, outside the navigator's
+  // circle (0.308 m): MRPT drives there, the front then 0.10 m from the wall.
+  // A guard margin of 0.20 m must stop the front 0.20 m from it, 0.10 m
+  // short of the waypoint (the goal tolerance is 0.05 m).
+  const mrpt::poses::CPose2D start(2.0, 0.8, 0.0);
+  const Vector2d wp(3.925 - 0.35, 0.8);
+  {
+    SimRig free("compact", corridorWorld(), start, 0.0,
+                [](DriverParams& p) { p.footprint_guard = false; });
+    const auto r = free.driver->driveTo(wp, std::nullopt);
+    EXPECT_EQ(r.outcome, DriveOutcome::Reached) << "control: the unguarded drive gets there; "
+                                                << r.message;
+  }
+  SimRig rig("compact", corridorWorld(), start, 0.0,
+             [](DriverParams& p) { p.guard_margin_m = 0.20; });
+  const auto r = rig.driver->driveTo(wp, std::nullopt);
+  std::cout << "[ guard ] " << toString(r.outcome) << ": " << r.message << std::endl;
+  EXPECT_EQ(r.outcome, DriveOutcome::Blocked) << r.message;
+  EXPECT_NE(r.message.find("footprint guard"), std::string::npos) << r.message;
+  const auto p = rig.sim->robot().groundTruth();
+  const double front = p.x() + 0.25 * std::abs(std::cos(p.phi())) + 0.18 * std::abs(std::sin(p.phi()));
+  EXPECT_GE(3.925 - front, 0.20 - 0.005) << "the footprint kept the margin";
+  EXPECT_LE(3.925 - front, 0.30) << "and got close to it (slowed, not stopped early)";
+  EXPECT_EQ(rig.collisions(), 0u);
+  EXPECT_GT(rig.driver->guardHeldCommands(), 0u);
+  expectStandsStill(rig);
+}
+
+TEST(StopAndScanDriver, GuardRefusesATurnTheCorridorIsTooNarrowFor)
+{
+  // The omniRob (1.2 x 0.712 m) lengthwise in the 1.1 m corridor: turning
+  // 90 degrees would put its 1.2 m across it. Unguarded, the simulator
+  // refuses a step (a collision); guarded, the turn stops at the margin.
+  const mrpt::poses::CPose2D start(6.5, 2.0, 0.0);
+  {
+    SimRig free("omnirob", corridorWorld(), start, 0.0,
+                [](DriverParams& p) { p.footprint_guard = false; });
+    const auto r = free.driver->rotateTo(M_PI / 2);
+    EXPECT_EQ(r.outcome, DriveOutcome::Error) << "control: the unguarded turn hits; " << r.message;
+    EXPECT_GT(free.collisions(), 0u);
+  }
+  SimRig rig("omnirob", corridorWorld(), start, 0.0);
+  const auto r = rig.driver->rotateTo(M_PI / 2);
+  EXPECT_EQ(r.outcome, DriveOutcome::Blocked) << r.message;
+  EXPECT_EQ(rig.collisions(), 0u);
+  const double yaw = std::abs(rig.sim->robot().groundTruth().phi());
+  const double half_extent_y = 0.6 * std::sin(yaw) + 0.356 * std::cos(yaw);
+  EXPECT_GT(yaw, mrpt::DEG2RAD(5.0)) << "it turned as far as the corridor lets it";
+  EXPECT_LE(half_extent_y, 0.55 - rig.driver->params().guard_margin_m + 0.005);
+  expectStandsStill(rig);
+}
+
+TEST(StopAndScanDriver, AWaypointReachedWhereTheFinalTurnIsHeldCountsAsReached)
+{
+  // The omniRob at its waypoint, centre 0.71 m from the room's south wall
+  // (face y = 0.075) and facing it: outside its circumcircle (0.698 m), but
+  // a quarter turn sweeps its corners within the guard's 0.03 m. The turn
+  // stops at the margin and the drive is no failure (the stop's scan is
+  // taken in the yaw it got to).
+  const Vector2d wp(2.0, 0.075 + 0.71);
+  SimRig rig("omnirob", corridorWorld(), mrpt::poses::CPose2D(wp.x(), wp.y(), -M_PI / 2), 0.0);
+  const auto r = rig.driver->driveTo(wp, 0.0);
+  std::cout << "[ held turn ] " << toString(r.outcome) << ": " << r.message << std::endl;
+  EXPECT_EQ(r.outcome, DriveOutcome::Reached) << r.message;
+  EXPECT_NE(r.message.find("footprint guard"), std::string::npos) << r.message;
+  EXPECT_LE(r.goal_distance_m, rig.driver->params().goal_tolerance_m);
+  const double yaw = rig.sim->robot().groundTruth().phi();
+  EXPECT_GT(yaw, -M_PI / 2 + mrpt::DEG2RAD(5.0)) << "it turned part of the way";
+  const double extent = 0.6 * std::abs(std::sin(yaw)) + 0.356 * std::abs(std::cos(yaw));
+  EXPECT_GE(rig.sim->robot().groundTruth().y() - extent - 0.075, 0.03 - 0.005);
+  EXPECT_EQ(rig.collisions(), 0u);
+  expectStandsStill(rig);
 }
 
 // ------------------------------------------- navigation logs (issue 14)

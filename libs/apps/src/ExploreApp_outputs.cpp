@@ -149,7 +149,8 @@ void writeExploreSummary(const ExploreSummary& s, const std::string& path)
     << ",\n  \"loop_closures\": " << s.loop_closures << ",\n  \"loop_edges\": " << s.loop_edges
     << ",\n  \"loop_max_shift_m\": " << s.loop_max_shift_m
     << ",\n  \"skipped_cameras\": " << s.skipped_cameras << ",\n  \"failed_drives\": " << s.failed_drives
-    << ",\n  \"blacklisted\": " << s.blacklisted << ",\n  \"path_length_m\": " << s.path_length_m
+    << ",\n  \"blacklisted\": " << s.blacklisted << ",\n  \"guard_scaled\": " << s.guard_scaled
+    << ",\n  \"guard_held\": " << s.guard_held << ",\n  \"path_length_m\": " << s.path_length_m
     << ",\n  \"coverage_2d\": " << s.coverage_2d
     << ",\n  \"coverage_2d_planner_circle\": " << s.coverage_2d_planner_circle
     << ",\n  \"coverage_2d_circumradius\": " << s.coverage_2d_circumradius
@@ -252,6 +253,8 @@ void ExploreRun::finish()
   const auto& status = loop_->status();
   s_.failed_drives = status.failed_drives;
   s_.blacklisted = status.blacklisted;
+  s_.guard_scaled = status.guard_scaled;
+  s_.guard_held = status.guard_held;
 
   mrpt::system::CTicTac tic;
   const double res = cfg_.slam.octomap.l_res_m;

@@ -222,6 +222,8 @@ bool ExplorationLoop::driveWaypoints(const exploration::PlanResult& plan)
     const bool last = i + 1 == wps.size();
     const auto r = driver_->driveTo(wps[i], last ? std::optional<double>(plan.target.phi())
                                                  : std::nullopt);
+    status_.guard_scaled = driver_->guardScaledCommands();
+    status_.guard_held = driver_->guardHeldCommands();
     scanAndIntegrate();
     if (!r.reached())
     {

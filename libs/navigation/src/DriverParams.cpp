@@ -41,6 +41,10 @@ void DriverParams::loadFromConfigFile(const mrpt::config::CConfigFileBase& c, co
   MRPT_LOAD_CONFIG_VAR(escape_clearance_m, double, c, s);
   MRPT_LOAD_CONFIG_VAR(escape_speed_mps, double, c, s);
   MRPT_LOAD_CONFIG_VAR(escape_timeout_s, double, c, s);
+  MRPT_LOAD_CONFIG_VAR(footprint_guard, bool, c, s);
+  MRPT_LOAD_CONFIG_VAR(guard_margin_m, double, c, s);
+  MRPT_LOAD_CONFIG_VAR(guard_horizon_s, double, c, s);
+  MRPT_LOAD_CONFIG_VAR(guard_hold_s, double, c, s);
   MRPT_LOAD_CONFIG_VAR_DEGREES(yaw_tolerance, c, s);
   MRPT_LOAD_CONFIG_VAR(yaw_gain, double, c, s);
   MRPT_LOAD_CONFIG_VAR(rotate_timeout_s, double, c, s);
@@ -75,6 +79,11 @@ void DriverParams::loadFromConfigFile(const mrpt::config::CConfigFileBase& c, co
   requireValid(escape_speed_mps > 0 && escape_speed_mps <= max_v_mps, c, s, "escape_speed_mps",
                "must be in (0, max_v_mps]");
   requireValid(escape_timeout_s > 0, c, s, "escape_timeout_s", "must be positive");
+  requireValid(guard_margin_m >= 0 && guard_margin_m <= 0.5, c, s, "guard_margin_m",
+               "must be in [0, 0.5] m");
+  requireValid(guard_horizon_s >= dt_s, c, s, "guard_horizon_s",
+               "must be at least dt_s (a command is held for dt_s)");
+  requireValid(guard_hold_s >= dt_s, c, s, "guard_hold_s", "must be at least dt_s");
   requireValid(yaw_tolerance > 0, c, s, "yaw_tolerance", "must be positive");
   requireValid(yaw_gain > 0 && yaw_gain * dt_s < 2.0, c, s, "yaw_gain",
                "must be positive and below 2 / dt_s (else the rotation oscillates)");
@@ -120,6 +129,10 @@ void DriverParams::saveToConfigFile(mrpt::config::CConfigFileBase& c, const std:
   MRPT_SAVE_CONFIG_VAR(escape_clearance_m, c, s);
   MRPT_SAVE_CONFIG_VAR(escape_speed_mps, c, s);
   MRPT_SAVE_CONFIG_VAR(escape_timeout_s, c, s);
+  MRPT_SAVE_CONFIG_VAR(footprint_guard, c, s);
+  MRPT_SAVE_CONFIG_VAR(guard_margin_m, c, s);
+  MRPT_SAVE_CONFIG_VAR(guard_horizon_s, c, s);
+  MRPT_SAVE_CONFIG_VAR(guard_hold_s, c, s);
   MRPT_SAVE_CONFIG_VAR_DEGREES(yaw_tolerance, c, s);
   MRPT_SAVE_CONFIG_VAR(yaw_gain, c, s);
   MRPT_SAVE_CONFIG_VAR(rotate_timeout_s, c, s);

@@ -14,6 +14,7 @@
 #include <stdexcept>
 #include <utility>
 
+#include "FootprintGuard.h"
 #include "RobotNavAdapter.h"
 #include "drive_log.h"
 
@@ -119,8 +120,27 @@ struct StopAndScanDriver::Impl
   Impl(RobotInterface& robot, bool verbose) : adapter(robot), nav(adapter, verbose) {}
 };
 
+namespace
+{
+std::unique_ptr<FootprintGuard> makeGuard(RobotInterface& robot, const DriverParams& p)
+{
+  if (!p.footprint_guard) return nullptr;
+  GuardParams g;
+  g.length_m = p.footprint_length_m;
+  g.width_m = p.footprint_width_m;
+  g.margin_m = p.guard_margin_m;
+  g.horizon_s = p.guard_horizon_s;
+  g.z_min_m = p.min_obstacle_height_m;
+  g.z_max_m = p.max_obstacle_height_m;
+  return std::make_unique<FootprintGuard>(robot, g);
+}
+}  // namespace
+
 StopAndScanDriver::StopAndScanDriver(RobotInterface& robot, const DriverParams& params)
-    : params_(params), robot_(robot), impl_(std::make_unique<Impl>(robot, params.verbose))
+    : params_(params),
+      guard_(makeGuard(robot, params)),
+      robot_(guard_ ? static_cast<RobotInterface&>(*guard_) : robot),
+      impl_(std::make_unique<Impl>(robot_, params.verbose))
 {
   prepareNavlogDir(params.navlog_dir);
   const auto level = params.verbose ? mrpt::system::LVL_INFO : mrpt::system::LVL_ERROR;
@@ -147,6 +167,35 @@ StopAndScanDriver::StopAndScanDriver(RobotInterface& robot, const DriverParams& 
 }
 
 StopAndScanDriver::~StopAndScanDriver() = default;
+
+std::size_t StopAndScanDriver::guardScaledCommands() const
+{
+  return guard_ ? guard_->scaledCommands() : 0;
+}
+
+std::size_t StopAndScanDriver::guardHeldCommands() const
+{
+  return guard_ ? guard_->heldCommands() : 0;
+}
+
+DriveResult StopAndScanDriver::finishDrive(const DriveLog& log,
+                                           const std::pair<DriveOutcome, std::string>& end)
+{
+  const bool held = guard_ && guard_->heldFor_s() >= params_.guard_hold_s - 1e-9;
+  DriveResult r = endDrive(robot_, log, end);  // stops the robot (and resets the guard's hold)
+  r.guard_held = held && end.first == DriveOutcome::Blocked;
+  return r;
+}
+
+Ending StopAndScanDriver::guardEnding() const
+{
+  if (!guard_ || guard_->heldFor_s() < params_.guard_hold_s - 1e-9) return std::nullopt;
+  return {{DriveOutcome::Blocked,
+           mrpt::format("the footprint guard held the robot for %.1f s: going on would bring the "
+                        "footprint within guard_margin_m = %.3f m of a sensed obstacle "
+                        "(clearance now %.3f m)",
+                        guard_->heldFor_s(), params_.guard_margin_m, guard_->lastClearance_m())}};
+}
 
 namespace
 {
@@ -284,6 +333,7 @@ DriveResult StopAndScanDriver::driveTo(const Eigen::Vector2d& waypoint,
     robot_.step(params_.dt_s);
     log.afterStep(robot_);
     end = checkAfterStep(robot_, params_, log, waypoint);
+    if (!end) end = guardEnding();
   }
 
   // Stop in every case: cancel the navigation, zero velocity.
@@ -291,12 +341,13 @@ DriveResult StopAndScanDriver::driveTo(const Eigen::Vector2d& waypoint,
   if (nav.getCurrentState() == CAbstractNavigator::NAV_ERROR) nav.resetNavError();
   adapter.clearCommand();
   navlog.reset();
-  DriveResult res = endDrive(robot_, log, *end);
+  DriveResult res = finishDrive(log, *end);
   if (res.outcome == DriveOutcome::Blocked && params_.straight_fallback)
   {
     const DriveResult st = driveStraight(waypoint);
     appendDrive(res, st, "straight: ");
     res.outcome = st.outcome;
+    res.guard_held = st.guard_held;
   }
   if (res.outcome == DriveOutcome::Blocked && params_.escape_clearance_m > 0)
   {
@@ -310,7 +361,10 @@ DriveResult StopAndScanDriver::driveTo(const Eigen::Vector2d& waypoint,
   {
     const DriveResult rot = rotateTo(*final_yaw_rad);
     appendDrive(res, rot, "");
-    res.outcome = rot.outcome;
+    // The waypoint is reached; a turn the footprint cannot make there ends
+    // where the guard held it (the scan is taken in that yaw) instead of
+    // failing the whole drive.
+    if (!rot.guard_held) res.outcome = rot.outcome;
   }
   return res;
 }
@@ -325,6 +379,8 @@ DriveResult StopAndScanDriver::rotateTo(double yaw_rad)
     const double err = mrpt::math::wrapToPi(yaw_rad - robot_.pose().phi());
     if (collisionsOf(robot_) > log.collisions0)
       end = {DriveOutcome::Error, "the robot reported a collision while turning"};
+    else if (const auto held = guardEnding())
+      end = *held;
     else if (std::abs(err) <= params_.yaw_tolerance)
       end = {DriveOutcome::Reached, mrpt::format("yaw error %.2f deg", mrpt::RAD2DEG(err))};
     else if (i >= max_rot_steps)
@@ -337,7 +393,7 @@ DriveResult StopAndScanDriver::rotateTo(double yaw_rad)
     robot_.step(params_.dt_s);
     log.afterStep(robot_);
   }
-  return endDrive(robot_, log, *end);
+  return finishDrive(log, *end);
 }
 
 }  // namespace voxplore::navigation

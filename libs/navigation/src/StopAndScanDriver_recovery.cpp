@@ -62,8 +62,9 @@ DriveResult StopAndScanDriver::driveStraight(const Eigen::Vector2d& waypoint)
     robot_.step(params_.dt_s);
     log.afterStep(robot_);
     end = checkAfterStep(robot_, params_, log, waypoint);
+    if (!end) end = guardEnding();
   }
-  return endDrive(robot_, log, *end);
+  return finishDrive(log, *end);
 }
 
 DriveResult StopAndScanDriver::escape()
@@ -106,6 +107,8 @@ DriveResult StopAndScanDriver::escape()
       end = {DriveOutcome::Error, "the robot reported a collision while backing off"};
     else if (nearest >= r_clear)
       end = {DriveOutcome::Reached, mrpt::format("clear, nearest obstacle %.3f m", nearest)};
+    else if (const auto held = guardEnding())
+      end = *held;
     else if (v < 1e-3)
       end = {DriveOutcome::Blocked,
              mrpt::format("pinched from both sides, nearest obstacle %.3f m", nearest)};
@@ -118,7 +121,7 @@ DriveResult StopAndScanDriver::escape()
     robot_.step(params_.dt_s);
     log.afterStep(robot_);
   }
-  return endDrive(robot_, log, *end);
+  return finishDrive(log, *end);
 }
 
 }  // namespace voxplore::navigation

@@ -64,6 +64,8 @@ struct ExploreSummary
   std::size_t skipped_cameras = 0;    ///< depth images skipped as faulty or missing, over all stops
   std::size_t failed_drives = 0;   ///< waypoints not reached (Blocked / Timeout / Error)
   std::size_t blacklisted = 0;     ///< targets given up
+  std::size_t guard_scaled = 0;    ///< commands the footprint guard slowed ([navigation] footprint_guard)
+  std::size_t guard_held = 0;      ///< ... and held still
   double path_length_m = 0;        ///< ground-truth distance travelled [m]
   double coverage_2d = 0;          ///< share of the GT free floor the robot's footprint reaches or sees (floor_reachable_m2) that the map knows as free
   double coverage_2d_planner_circle = 0;  ///< the same share of the floor the planner's collision circle (r_coll + sqrt(2) l_res) reaches

@@ -111,6 +111,8 @@ struct ExplorationStatus
   std::size_t steps = 0;          ///< planning steps
   std::size_t failed_drives = 0;  ///< waypoints not reached (Blocked / Timeout / Error)
   std::size_t blacklisted = 0;    ///< targets given up
+  std::size_t guard_scaled = 0;   ///< velocity commands the driver's footprint guard slowed down
+  std::size_t guard_held = 0;     ///< ... of those, the ones it held still
   double path_length_m = 0;       ///< travelled by the pose estimate between stops [m]
   double compute_s = 0;           ///< wall time of SLAM + planning [s]
   double slam_ms_step = 0;        ///< SLAM time of the current step so far [ms]

@@ -42,6 +42,11 @@ struct DriverParams : public mrpt::config::CLoadableOptions
   double escape_speed_mps = 0.10;    ///< back-off speed [m/s]
   double escape_timeout_s = 4.0;     ///< longest back-off [s]
 
+  // --- footprint guard (our own safety layer under every command) ---
+  bool footprint_guard = true;    ///< scale every velocity command so the footprint rectangle keeps guard_margin_m from the sensed obstacle points
+  double guard_margin_m = 0.03;   ///< clearance the guard keeps between the footprint and sensed obstacles [m]
+  double guard_horizon_s = 0.3;   ///< a command must keep the margin when held this long [s]
+  double guard_hold_s = 1.0;      ///< a drive the guard holds still this long ends Blocked [s]
   // --- final rotation to the requested yaw (P-controller) ---
   double yaw_tolerance = mrpt::DEG2RAD(2.0);  ///< final yaw error accepted [rad] (ini: deg)
   double yaw_gain = 2.0;                      ///< turn rate per radian of yaw error [1/s]

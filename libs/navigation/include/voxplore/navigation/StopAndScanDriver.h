@@ -10,13 +10,20 @@
 #include <memory>
 #include <optional>
 #include <string>
+#include <utility>
 
 namespace voxplore::navigation
 {
+namespace detail
+{
+class FootprintGuard;
+struct DriveLog;
+}
 /// @brief How a drive to one waypoint ended.
 enum class DriveOutcome
 {
-  Reached,  ///< within goal_tolerance_m (and yaw_tolerance when a yaw was asked)
+  Reached,  ///< within goal_tolerance_m (and yaw_tolerance when a yaw was asked, unless the
+            ///< footprint guard held the final turn: the message then says how far it got)
   Blocked,  ///< no progress for blocked_timeout_s, or an obstacle seen at the waypoint
   Timeout,  ///< timeout_s / max_steps / rotate_timeout_s ran out while still progressing
   Error     ///< a collision, a sensor failure or a navigator error (see message)
@@ -35,6 +42,7 @@ struct DriveResult
   std::size_t steps = 0;            ///< RobotInterface::step() calls
   std::size_t collisions = 0;       ///< new collisions the robot reported (0 without a bumper)
   std::string message;              ///< why it ended, for the user
+  bool guard_held = false;          ///< the footprint guard held the robot and so ended it (Blocked)
 
   bool reached() const { return outcome == DriveOutcome::Reached; }
 };
@@ -100,10 +108,23 @@ class StopAndScanDriver
 
   const DriverParams& params() const { return params_; }
 
+  /// @brief Velocity commands the footprint guard ([navigation]
+  ///        footprint_guard) scaled down so far, and of those the ones it
+  ///        held still (0 with the guard off).
+  std::size_t guardScaledCommands() const;
+  std::size_t guardHeldCommands() const;
+
  private:
   struct Impl;
+  /// Blocked when the footprint guard has held the robot for guard_hold_s.
+  std::optional<std::pair<DriveOutcome, std::string>> guardEnding() const;
+  /// Stops the robot; the result of a drive that ended with `end`.
+  DriveResult finishDrive(const detail::DriveLog& log,
+                          const std::pair<DriveOutcome, std::string>& end);
+
   DriverParams params_;
-  RobotInterface& robot_;
+  std::unique_ptr<detail::FootprintGuard> guard_;  // between the driving and the robot; null when off
+  RobotInterface& robot_;                          // the guard when on, else the robot
   std::unique_ptr<Impl> impl_;
 };
 
