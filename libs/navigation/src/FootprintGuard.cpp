@@ -81,7 +81,7 @@ double FootprintGuard::commandClearance(double vx, double vy, double w) const
   const int n = std::max(1, static_cast<int>(std::ceil(travel / 0.01)));
   double best = std::numeric_limits<double>::infinity();
   for (int k = 1; k <= n; k++)
-    best = std::min(best, rectangleClearance(near_, hl, hw, poseAfter(vx, vy, w, H * k / n)));
+    best = std::min(best, rectangleClearance(relevant_, hl, hw, poseAfter(vx, vy, w, H * k / n)));
   return best;
 }
 
@@ -105,6 +105,13 @@ void FootprintGuard::setVelocity(double vx_mps, double vy_mps, double w_radps)
   }
   // Never below the margin, and never closer when already below it.
   const double floor_m = std::min(params_.margin_m, last_clearance_m_) - 1e-4;
+  // Only points within the circumcircle + the centre's travel + floor_m
+  // can come nearer than floor_m to the rectangle at any scaled command.
+  const double reach = std::hypot(hl, hw) + std::hypot(vx_mps, vy_mps) * params_.horizon_s +
+                       std::max(floor_m, 0.0) + 1e-3;
+  relevant_.clear();
+  for (const auto& q : near_)
+    if (q.squaredNorm() <= reach * reach) relevant_.push_back(q);
   double scale = 1.0;
   if (commandClearance(vx_mps, vy_mps, w_radps) < floor_m)
   {

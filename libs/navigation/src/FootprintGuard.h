@@ -82,7 +82,8 @@ class FootprintGuard : public RobotInterface
   mrpt::maps::CSimplePointsMap raw_;
   std::optional<mrpt::Clock::time_point> raw_time_;  // when raw_ was sensed
   bool raw_ok_ = false;
-  std::vector<Eigen::Vector2d> near_;  // points in the height band within reach
+  std::vector<Eigen::Vector2d> near_;      // points in the height band within reach
+  std::vector<Eigen::Vector2d> relevant_;  // ... that the current command can come near
   bool held_now_ = false;
   double held_s_ = 0, last_clearance_m_ = 0;
   std::size_t scaled_ = 0, held_ = 0;
