@@ -263,6 +263,43 @@ TEST(Projection, FloorUnderTheSweptFootprintIsFreeInTheBodysYaw)
   EXPECT_EQ(stateAt(disc, 1.50, 0.0), GroundState::Unknown);
 }
 
+// The swept floor is computed row by row (spans of cell centres): it must be
+// exactly the cells whose centre lies in a swept disc or in a swept rectangle
+// in its yaw, tested here centre by centre on a winding, turning path.
+TEST(Projection, SweptFloorIsExactlyTheCellsUnderTheDiscsAndRectangles)
+{
+  octomap::OcTree t(0.05);
+  fillBox(t, -0.05, 0.05, -0.05, 0.05, 0.0, 0.6, freeLog(t));  // the robot's column
+  ProjectionParams p;
+  p.margin_m = 2.5;
+  p.footprint_length_m = 1.2;
+  p.footprint_width_m = 0.712;
+  SweptPath swept;
+  for (double x = -1.0; x <= 1.5 + 1e-9; x += 0.05)
+    swept.emplace_back(x, 0.3 * std::sin(2 * x), 1.3 * x);
+  swept.emplace_back(0.0, 0.0, M_PI / 2);  // axis-aligned yaws: slabs parallel to the rows
+  swept.emplace_back(0.0, 0.0, 0.0);
+  const GroundGrid g = projectToGround(t, CPose2D(0, 0, 0), p, swept);
+  const double hl = 0.6 - p.swept_footprint_margin_m, hw = 0.356 - p.swept_footprint_margin_m;
+  std::size_t under = 0, mismatched = 0;
+  for (int cy = 0; cy < static_cast<int>(g.state.getSizeY()); ++cy)
+    for (int cx = 0; cx < static_cast<int>(g.state.getSizeX()); ++cx)
+    {
+      const double x = g.state.idx2x(cx), y = g.state.idx2y(cy);
+      bool in = std::abs(x) < 0.05 && std::abs(y) < 0.05;  // the known column
+      for (const auto& q : swept)
+      {
+        const double dx = x - q.x(), dy = y - q.y(), c = std::cos(q.z()), s = std::sin(q.z());
+        in = in || std::hypot(dx, dy) <= p.swept_radius_m ||
+             (std::abs(c * dx + s * dy) <= hl && std::abs(-s * dx + c * dy) <= hw);
+      }
+      under += in;
+      mismatched += in != (*g.state.cellByIndex(cx, cy) == GroundState::Free);
+    }
+  EXPECT_GT(under, 1000u);  // 1,470 cells: the path is covered, not a few cells
+  EXPECT_EQ(mismatched, 0u);
+}
+
 TEST(Projection, GridAlignsWithVoxelColumnsAndCoversMarginAndRobot)
 {
   octomap::OcTree t(0.05);

@@ -10,6 +10,7 @@
 
 #include <algorithm>
 #include <array>
+#include <cstddef>
 #include <cmath>
 #include <vector>
 
@@ -209,24 +210,51 @@ std::vector<uint8_t> sweptMask(const GroundGrid& G, const SweptPath& swept,
   const int nx = static_cast<int>(G.state.getSizeX());
   const int ny = static_cast<int>(G.state.getSizeY());
   const double res = G.state.getResolution();
-  // The cells within `reach` of a pose hold every cell the disc or the
-  // rectangle can cover.
+  const double x0 = G.state.getXMin(), y0 = G.state.getYMin();
   const double reach = std::max(radius, rect ? std::hypot(half_l, half_w) : 0.0);
-  const int r = static_cast<int>(std::ceil(reach / res));
   std::vector<uint8_t> out(static_cast<std::size_t>(nx) * ny, 0);
+  // Marks the cells of row y whose centre's dx from the pose lies in [lo, hi].
+  auto markRow = [&](int y, double qx, double lo, double hi) {
+    const int a = std::max(0, static_cast<int>(std::ceil((qx + lo - x0) / res - 0.5 - 1e-9)));
+    const int b = std::min(nx - 1, static_cast<int>(std::floor((qx + hi - x0) / res - 0.5 + 1e-9)));
+    if (a <= b) std::fill(out.begin() + static_cast<std::ptrdiff_t>(y) * nx + a,
+                          out.begin() + static_cast<std::ptrdiff_t>(y) * nx + b + 1, uint8_t{1});
+  };
+  // Narrows [lo, hi] to the dx with |k * dx + m| <= h.
+  auto slab = [](double k, double m, double h, double& lo, double& hi) {
+    if (std::abs(k) < 1e-12)
+    {
+      if (std::abs(m) > h) hi = lo - 1;  // empty
+      return;
+    }
+    const double u = (-h - m) / k, v = (h - m) / k;
+    lo = std::max(lo, std::min(u, v));
+    hi = std::min(hi, std::max(u, v));
+  };
+  // Row by row, the disc's and the rectangle's span of cell centres (the
+  // rectangle as two slabs in its own axes): the same cells as testing each
+  // centre, without testing the cells in between.
   for (const auto& q : swept)
   {
     const double c = std::cos(q.z()), s = std::sin(q.z());
-    const int cx = G.state.x2idx(q.x()), cy = G.state.y2idx(q.y());
-    for (int y = std::max(0, cy - r); y <= std::min(ny - 1, cy + r); ++y)
-      for (int x = std::max(0, cx - r); x <= std::min(nx - 1, cx + r); ++x)
+    const int ya = std::max(0, static_cast<int>(std::ceil((q.y() - reach - y0) / res - 0.5 - 1e-9)));
+    const int yb = std::min(ny - 1, static_cast<int>(std::floor((q.y() + reach - y0) / res - 0.5 + 1e-9)));
+    for (int y = ya; y <= yb; ++y)
+    {
+      const double dy = G.state.idx2y(y) - q.y();
+      if (radius > 0 && std::abs(dy) <= radius)
       {
-        const double dx = G.state.idx2x(x) - q.x(), dy = G.state.idx2y(y) - q.y();
-        const bool in_disc = std::hypot(dx, dy) <= radius;
-        const bool in_rect =
-            rect && std::abs(c * dx + s * dy) <= half_l && std::abs(-s * dx + c * dy) <= half_w;
-        if (in_disc || in_rect) out[static_cast<std::size_t>(y) * nx + x] = 1;
+        const double h = std::sqrt(radius * radius - dy * dy);
+        markRow(y, q.x(), -h, h);
       }
+      if (rect)
+      {
+        double lo = -reach, hi = reach;
+        slab(c, s * dy, half_l, lo, hi);   // |c dx + s dy| <= half_l
+        slab(-s, c * dy, half_w, lo, hi);  // |-s dx + c dy| <= half_w
+        if (lo <= hi) markRow(y, q.x(), lo, hi);
+      }
+    }
   }
   return out;
 }
