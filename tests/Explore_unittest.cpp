@@ -17,6 +17,9 @@
 #include <string>
 #include <vector>
 
+#include "ExploreApp_internal.h"  // libs/apps/src (internal)
+#include "test_worlds.h"
+
 using namespace voxplore;
 namespace fs = std::filesystem;
 
@@ -266,4 +269,26 @@ TEST(Explore, RelativeNavlogDirIsInsideTheOutputDirectory)
   std::ifstream p(dir / "out" / "params.ini");
   const std::string params((std::istreambuf_iterator<char>(p)), std::istreambuf_iterator<char>());
   EXPECT_NE(params.find((dir / "out" / "navlogs").string()), std::string::npos);
+}
+
+// The clearance metric: a box whose corner lies 3 cm from the footprint's
+// corner, diagonally, reads 3 cm (a rectangle grown on every side read
+// 3 / sqrt(2) = 2.1 cm), and 3 cm beside a side reads 3 cm too.
+TEST(Explore, MinClearanceIsTheDistanceAlsoAtTheFootprintsCorners)
+{
+  const sim::Footprint fp{0.50, 0.36};
+  const double e = 0.03 / std::sqrt(2.0);
+  sim::World w = test::boxRoom(20, 20, 2.5, mrpt::poses::CPose2D(5, 5, 0));
+  w.mesh.addBox({5.25f + static_cast<float>(e) + 0.1f, 5.18f + static_cast<float>(e) + 0.1f, 0.5f},
+                {0.2f, 0.2f, 1.0f});
+  const sim::CollisionChecker checker(w, 0.03, 0.65);
+  const auto diag = apps::explore_detail::minClearance(checker, fp, {mrpt::poses::CPose2D(5, 5, 0)});
+  EXPECT_GE(diag.clearance_m, 0.03 * 0.98 - 1e-3);
+  EXPECT_LE(diag.clearance_m, 0.03 + 1e-3);
+  // Beside the +X side: the box's face 3 cm from it.
+  const mrpt::poses::CPose2D beside(5.25 + e - 0.03 - 0.25, 5.28 + e, 0);
+  const auto side = apps::explore_detail::minClearance(checker, fp, {mrpt::poses::CPose2D(3, 3, 0), beside});
+  EXPECT_NEAR(side.clearance_m, 0.03, 1.5e-3);
+  EXPECT_EQ(side.index, 1u);
+  EXPECT_NEAR(side.pose_world.x(), beside.x(), 1e-12);
 }

@@ -50,10 +50,10 @@ void writeCoverageMap(
 
 /// @brief Smallest distance between the footprint and the world geometry
 ///        over `trajectory_world`: for each pose, bisection on the margin d
-///        by which the footprint rectangle is grown on every side until it
-///        touches an obstacle (CollisionChecker::collides), to 1 mm. The
-///        grown rectangle covers the true d-offset shape, so the value is a
-///        lower bound within the rectangle's corner rounding.
+///        by which the footprint rectangle is offset (its corners rounded,
+///        drawn as a polygon circumscribing the arcs) until it touches an
+///        obstacle (CollisionChecker::overlapsObstacle), to 1 mm. A lower
+///        bound of the true clearance, within 2 % of it at the corners.
 /// @brief The smallest clearance along a trajectory and where it was.
 struct ClearanceMin
 {
