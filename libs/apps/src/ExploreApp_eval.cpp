@@ -42,7 +42,7 @@ bool collidesGrown(
       p.composePoint(corners[k][0] + r * std::cos(a), corners[k][1] + r * std::sin(a), wx, wy);
       poly.vertices.emplace_back(wx, wy);
     }
-  return checker.overlapsObstacle(poly) || checker.collides(p, fp);
+  return checker.overlapsObstacle(poly);
 }
 
 /// Is the world-frame point `w` a Free cell of the map-frame grid `g`?

@@ -48,12 +48,6 @@ void writeCoverageMap(
     const std::vector<mrpt::poses::CPose2D>& trajectory_world, const std::string& png_path,
     int scale = 2);
 
-/// @brief Smallest distance between the footprint and the world geometry
-///        over `trajectory_world`: for each pose, bisection on the margin d
-///        by which the footprint rectangle is offset (its corners rounded,
-///        drawn as a polygon circumscribing the arcs) until it touches an
-///        obstacle (CollisionChecker::overlapsObstacle), to 1 mm. A lower
-///        bound of the true clearance, within 2 % of it at the corners.
 /// @brief The smallest clearance along a trajectory and where it was.
 struct ClearanceMin
 {
@@ -61,6 +55,14 @@ struct ClearanceMin
   std::size_t index = 0;            ///< trajectory index of the first pose at that clearance
   mrpt::poses::CPose2D pose_world;  ///< that pose
 };
+
+/// @brief Smallest distance between the footprint and the world geometry
+///        over `trajectory_world`: for each pose, bisection on the margin d
+///        by which the footprint rectangle is offset (its corners rounded,
+///        drawn as a polygon circumscribing the arcs) until it touches an
+///        obstacle (CollisionChecker::overlapsObstacle), to 1 mm; a pose that
+///        collides as it is gives 0. A lower bound of the true clearance,
+///        within 2 % of it at the corners.
 /// @return the minimum and its pose (the first pose when nothing is within cap_m)
 ClearanceMin minClearance(
     const sim::CollisionChecker& checker, const sim::Footprint& footprint,

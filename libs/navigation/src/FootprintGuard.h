@@ -71,7 +71,6 @@ class FootprintGuard : public RobotInterface
   /// @brief Commands scaled down so far, and commands held (scale < 5 %).
   std::size_t scaledCommands() const { return scaled_; }
   std::size_t heldCommands() const { return held_; }
-  const GuardParams& params() const { return params_; }
 
  private:
   bool refreshPoints();

@@ -178,10 +178,15 @@ std::size_t StopAndScanDriver::guardHeldCommands() const
   return guard_ ? guard_->heldCommands() : 0;
 }
 
+bool StopAndScanDriver::guardHolding() const
+{
+  return guard_ && guard_->heldFor_s() >= params_.guard_hold_s - 1e-9;
+}
+
 DriveResult StopAndScanDriver::finishDrive(const DriveLog& log,
                                            const std::pair<DriveOutcome, std::string>& end)
 {
-  const bool held = guard_ && guard_->heldFor_s() >= params_.guard_hold_s - 1e-9;
+  const bool held = guardHolding();
   DriveResult r = endDrive(robot_, log, end);  // stops the robot (and resets the guard's hold)
   r.guard_held = held && end.first == DriveOutcome::Blocked;
   return r;
@@ -189,7 +194,7 @@ DriveResult StopAndScanDriver::finishDrive(const DriveLog& log,
 
 Ending StopAndScanDriver::guardEnding() const
 {
-  if (!guard_ || guard_->heldFor_s() < params_.guard_hold_s - 1e-9) return std::nullopt;
+  if (!guardHolding()) return std::nullopt;
   return {{DriveOutcome::Blocked,
            mrpt::format("the footprint guard held the robot for %.1f s: going on would bring the "
                         "footprint within guard_margin_m = %.3f m of a sensed obstacle "

@@ -123,7 +123,6 @@ OmniRobot::StepResult OmniRobot::step(
   StepResult r;
   if (checker && checker->collides(next, params_.footprint()))
   {
-    collisions_++;
     collision_poses_.push_back(gt_);
     r.collided = true;
     return r;

@@ -116,7 +116,9 @@ class StopAndScanDriver
 
  private:
   struct Impl;
-  /// Blocked when the footprint guard has held the robot for guard_hold_s.
+  /// The footprint guard has held the robot for guard_hold_s.
+  bool guardHolding() const;
+  /// Blocked when guardHolding().
   std::optional<std::pair<DriveOutcome, std::string>> guardEnding() const;
   /// Stops the robot; the result of a drive that ended with `end`.
   DriveResult finishDrive(const detail::DriveLog& log,

@@ -84,7 +84,7 @@ class OmniRobot
   const mrpt::poses::CPose2D& groundTruth() const { return gt_; }
   const mrpt::poses::CPose2D& lastOdometry() const { return odo_; }
   const RobotParams& params() const { return params_; }
-  std::size_t collisions() const { return collisions_; }
+  std::size_t collisions() const { return collision_poses_.size(); }
   /// @brief World pose the robot stood at for each refused step, in order.
   const std::vector<mrpt::poses::CPose2D>& collisionPoses() const { return collision_poses_; }
   double distanceTravelled() const { return travelled_m_; }
@@ -94,8 +94,7 @@ class OmniRobot
   mrpt::poses::CPose2D gt_;
   mrpt::poses::CPose2D gt_at_last_read_;
   mrpt::poses::CPose2D odo_;
-  std::size_t collisions_ = 0;
-  std::vector<mrpt::poses::CPose2D> collision_poses_;
+  std::vector<mrpt::poses::CPose2D> collision_poses_;  // one per refused step
   double travelled_m_ = 0;
 };
 
