@@ -73,6 +73,8 @@ ExploreConfig loadConfig(const ExploreOptions& opts)
   // r_coll follows the robot footprint unless [collision] r_coll_m is set.
   c.planner.collision.r_coll_m = c.sim.robot.footprint().circumradius();
   c.planner.projection.footprint_length_m = c.sim.robot.length_m;
+  c.planner.collision.footprint_length_m = c.sim.robot.length_m;
+  c.planner.collision.footprint_width_m = c.sim.robot.width_m;
   c.planner.projection.footprint_width_m = c.sim.robot.width_m;
   c.planner.load(*cfg);
   // The scan rating's virtual cameras are the robot's, unless [scan_rating] places them.

@@ -126,12 +126,19 @@ bool tryFrontier(
   tic.Tic();
   for (const auto& c : candidates)
   {
-    auto path = planPath(*r.space, start, Eigen::Vector2d(c.x(), c.y()), p.path);
+    const Eigen::Vector2d goal(c.x(), c.y());
+    auto path = r.footprint ? planFootprintPath(*r.space, *r.footprint, robot, goal, c.phi(), p.path)
+                            : planPath(*r.space, start, goal, p.path);
     if (!path) continue;
     r.path = std::move(path);
-    r.target = c;
-    r.waypoints.assign(r.path->waypoints.begin() + (r.path->waypoints.size() > 1 ? 1 : 0),
-                       r.path->waypoints.end());
+    r.target = r.path->final_yaw ? CPose2D(c.x(), c.y(), *r.path->final_yaw) : c;
+    const std::size_t first = r.path->waypoints.size() > 1 ? 1 : 0;
+    r.waypoints.assign(r.path->waypoints.begin() + first, r.path->waypoints.end());
+    if (r.footprint)
+    {
+      r.waypoint_yaws.assign(r.path->yaws.begin() + first, r.path->yaws.end());
+      r.waypoint_narrow.assign(r.path->narrow.begin() + first, r.path->narrow.end());
+    }
     r.frontier = f;
     r.ms.path += 1e3 * tic.Tac();
     return true;
@@ -152,6 +159,13 @@ PlanResult plan(
   r.ms.projection = 1e3 * tic.Tac();
   tic.Tic();
   auto space = std::make_shared<CollisionSpace>(computeCollisionSpace(*ground, p.collision));
+  if (p.collision.model == CollisionParams::Model::Footprint)
+  {
+    auto fs = std::make_shared<FootprintSpace>(
+        computeFootprintSpace(*ground, *space, p.collision, robot));
+    applyFootprint(*space, *fs);
+    r.footprint = fs;
+  }
   r.ms.collision = 1e3 * tic.Tac();
   tic.Tic();
   auto fm = std::make_shared<FrontierMap>(findFrontiers(*ground, *space));

@@ -131,6 +131,14 @@ void CollisionParams::loadFromConfigFile(const mrpt::config::CConfigFileBase& c,
   common::requireValid(min_open_unknown_depth_m >= 0, c, s, "min_open_unknown_depth_m",
                        "must be >= 0");
   common::requireValid(r_coll_m >= 0, c, s, "r_coll_m", "must be >= 0");
+  const std::string m = c.read_string(s, "model", model == Model::Circle ? "circle" : "footprint");
+  common::requireValid(m == "circle" || m == "footprint", c, s, "model",
+                       "expected circle or footprint");
+  model = m == "circle" ? Model::Circle : Model::Footprint;
+  MRPT_LOAD_CONFIG_VAR(footprint_margin_m, double, c, s);
+  MRPT_LOAD_CONFIG_VAR(yaw_bins, int, c, s);
+  common::requireValid(footprint_margin_m >= 0, c, s, "footprint_margin_m", "must be >= 0");
+  common::requireValid(yaw_bins >= 2 && yaw_bins <= 64, c, s, "yaw_bins", "must be in 2..64");
 }
 
 void CollisionParams::saveToConfigFile(mrpt::config::CConfigFileBase& c, const std::string& s) const
@@ -138,6 +146,9 @@ void CollisionParams::saveToConfigFile(mrpt::config::CConfigFileBase& c, const s
   MRPT_SAVE_CONFIG_VAR(r_coll_m, c, s);
   MRPT_SAVE_CONFIG_VAR(ignore_unknown_beside_obstacles, c, s);
   MRPT_SAVE_CONFIG_VAR(min_open_unknown_depth_m, c, s);
+  c.write(s, "model", model == Model::Circle ? "circle" : "footprint");
+  MRPT_SAVE_CONFIG_VAR(footprint_margin_m, c, s);
+  MRPT_SAVE_CONFIG_VAR(yaw_bins, c, s);
 }
 
 CollisionSpace computeCollisionSpace(const GroundGrid& g, const CollisionParams& p)

@@ -23,6 +23,7 @@ struct Search
   int nx = 0, ny = 0;
   const SpaceState* space = nullptr;
   const uint8_t* open_unknown = nullptr;  ///< CollisionSpace::open_unknown
+  bool footprint = false;       ///< CollisionSpace::footprint
   std::vector<double> dist;     ///< cells; < 0: not reached
   std::vector<uint8_t> escape;  ///< reached from a non-Free start through non-Free cells only
   bool free_settled = false;    ///< a Free cell has been settled: escaping stops
@@ -87,8 +88,16 @@ bool isOpenUnknown(const Search& s, int x, int y)
 /// 4-neighbour.
 bool isFrontierCell(const Search& s, int i)
 {
-  if (s.dist[i] < 0) return false;
-  if (s.space[i] != SpaceState::Free && s.space[i] != SpaceState::MaybeCollision) return false;
+  if (s.footprint)
+  {
+    // Any known free cell; its group must hold a reached one (groupFrontiers).
+    if (s.space[i] == SpaceState::Occupied || s.space[i] == SpaceState::Unknown) return false;
+  }
+  else
+  {
+    if (s.dist[i] < 0) return false;
+    if (s.space[i] != SpaceState::Free && s.space[i] != SpaceState::MaybeCollision) return false;
+  }
   const int cx = i % s.nx, cy = i / s.nx;
   for (int k = 0; k < 4; ++k)
     if (isOpenUnknown(s, cx + kDx[k], cy + kDy[k])) return true;
@@ -104,7 +113,8 @@ void describe(Frontier& f, const Search& s, const Grid<SpaceState>& g)
   f.centroid.setZero();
   for (const Cell& c : f.cells)
   {
-    f.distance_m = std::min(f.distance_m, s.dist[c.cx + c.cy * s.nx] * res);
+    const double d = s.dist[c.cx + c.cy * s.nx];
+    if (d >= 0) f.distance_m = std::min(f.distance_m, d * res);
     f.centroid += cellCenter(g, c);
   }
   f.centroid /= static_cast<double>(f.cells.size());
@@ -150,6 +160,10 @@ std::vector<Frontier> groupFrontiers(const Search& s, const Grid<SpaceState>& g)
         stack.push_back(j);
       }
     }
+    if (s.footprint &&
+        std::none_of(f.cells.begin(), f.cells.end(),
+                     [&](const Cell& c) { return s.dist[c.cx + c.cy * s.nx] >= 0; }))
+      continue;  // no cell of it reached
     describe(f, s, g);
     out.push_back(std::move(f));
   }
@@ -167,6 +181,7 @@ FrontierMap findFrontiers(const GroundGrid& g, const CollisionSpace& cs)
   s.space = grid.data().data();
   ASSERT_EQUAL_(cs.open_unknown.size(), grid.data().size());
   s.open_unknown = cs.open_unknown.data();
+  s.footprint = cs.footprint;
   s.dist.assign(grid.data().size(), -1.0);
   s.escape.assign(grid.data().size(), 0);
   runDijkstra(s, g.robot.cx + g.robot.cy * s.nx);

@@ -4,6 +4,7 @@
 
 #include <mrpt/config/CConfigFileBase.h>
 #include <mrpt/poses/CPose2D.h>
+#include <voxplore/exploration/footprint.h>
 #include <voxplore/exploration/path.h>
 #include <voxplore/exploration/scan_rating.h>
 #include <voxplore/exploration/stages.h>
@@ -63,6 +64,11 @@ struct PlanResult
   DoneReason done = DoneReason::None;
   std::string message;                 ///< human-readable summary
   std::vector<Eigen::Vector2d> waypoints;  ///< start excluded, target last
+  /// [collision] model = footprint only, one per waypoint: the yaw to hold on
+  /// the way to it [rad] (turn there first), and 1 where the planner's circle
+  /// does not fit on that way (drive the rectangle, not MRPT's circle).
+  std::vector<double> waypoint_yaws;
+  std::vector<uint8_t> waypoint_narrow;
   mrpt::poses::CPose2D target;         ///< pose to reach (yaw at the frontier)
   std::optional<Frontier> frontier;    ///< the chosen frontier
   std::vector<mrpt::poses::CPose2D> samples;
@@ -74,6 +80,7 @@ struct PlanResult
   std::shared_ptr<const GroundGrid> ground;
   std::shared_ptr<const CollisionSpace> space;
   std::shared_ptr<const FrontierMap> frontiers;
+  std::shared_ptr<const FootprintSpace> footprint;  ///< [collision] model = footprint only
   std::vector<Cell> sample_space;
 
   bool ok() const { return done == DoneReason::None; }

@@ -29,6 +29,12 @@ struct Path
   std::vector<Eigen::Vector2d> waypoints;   ///< after shortcutting and cutting into segments <= max_segment_m; first = start
   double length_m = 0;                      ///< length of the waypoint polyline [m]
   double min_clearance_m = 0;               ///< smallest clearance to occupied/unknown along it [m]
+  /// Footprint model only (planFootprintPath), one per waypoint (the first,
+  /// the start, included): the yaw to hold on the way to it [rad], and 1 where
+  /// the planner's circle does not fit on that way (drive the rectangle).
+  std::vector<double> yaws;
+  std::vector<uint8_t> narrow;
+  std::optional<double> final_yaw;  ///< Footprint: the yaw to turn to at the goal [rad]
 };
 
 /// @brief A* over Free cells (8-connected) from `start` to `goal`, cost =

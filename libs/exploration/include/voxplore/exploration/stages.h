@@ -89,6 +89,20 @@ struct CollisionParams : public mrpt::config::CLoadableOptions
   /// unseen backs of furniture. Closed unknown makes no MaybeCollision and no
   /// frontier. 0 = every unknown cell is open (thesis) [m].
   double min_open_unknown_depth_m = 0.10;
+  /// The robot model the planner plans for (ini key "model"): Circle is the
+  /// thesis (4.5.2: a disc of r_coll_m, so no passage narrower than about
+  /// 2 r_coll); Footprint plans in (x, y, yaw) with the rectangle (footprint.h).
+  enum class Model
+  {
+    Circle,
+    Footprint
+  };
+  Model model = Model::Circle;
+  /// The rectangle (length along the robot's +X, width) [m]; not ini keys,
+  /// set from the robot profile like r_coll_m.
+  double footprint_length_m = 1.200, footprint_width_m = 0.712;
+  double footprint_margin_m = 0.02;  ///< Footprint: kept from every occupied / open unknown cell at the cell centres [m]
+  int yaw_bins = 32;                 ///< Footprint: yaw bins over [0, 180) deg, 2..64
   void loadFromConfigFile(const mrpt::config::CConfigFileBase& c, const std::string& s) override;
   void saveToConfigFile(mrpt::config::CConfigFileBase& c, const std::string& s) const override;
 };
@@ -104,6 +118,11 @@ struct CollisionSpace
   /// unexplored space (CollisionParams: not beside an obstacle, not in a thin
   /// closed pocket); the sources of MaybeCollision and of frontiers.
   std::vector<uint8_t> open_unknown;
+  /// The states are the rectangle's (applyFootprint): a frontier is then
+  /// every known free cell bordering open unknown that is 8-connected, along
+  /// such cells, to one the search reached (the rectangle reaches a door's
+  /// middle only, the frontier is the whole door).
+  bool footprint = false;
 };
 
 /// @brief thesis 4.5.2 with exact Euclidean distance transforms (no per-cell

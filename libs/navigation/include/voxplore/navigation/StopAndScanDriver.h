@@ -95,6 +95,20 @@ class StopAndScanDriver
   ///         timeout_s; Error on a sensor failure or a collision.
   DriveResult driveStraight(const Eigen::Vector2d& waypoint);
 
+  /// @brief The footprint drive, for passages the circle MRPT's PTGs see
+  ///        does not fit through ([collision] model = footprint): turns in place
+  ///        to `yaw_rad` (rotateTo), then translates straight at the waypoint
+  ///        (holonomic) holding that yaw, slowing down over the last 0.3 m,
+  ///        with the footprint guard under every command. The planner checked
+  ///        the turn and the way against the map; the drive checks the
+  ///        rectangle at the waypoint against the sensed points.
+  /// @return Reached within goal_tolerance_m; Blocked when a sensed point lies
+  ///         inside the rectangle at the waypoint (3 steps in a row), the
+  ///         guard held the robot for guard_hold_s, or no progress for
+  ///         blocked_timeout_s; Timeout / Error as driveTo(); a turn that did
+  ///         not reach the yaw ends the drive with its outcome.
+  DriveResult driveFootprint(const Eigen::Vector2d& waypoint, double yaw_rad);
+
   /// @brief Recovery of a pinned robot (our own: MRPT's reactive navigator
   ///        stands still for ever once an obstacle point is at its circle):
   ///        backs off at escape_speed_mps along the sum of the repulsions of

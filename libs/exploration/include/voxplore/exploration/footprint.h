@@ -1,0 +1,100 @@
+/* voxplore — the robot's rectangle in (x, y, yaw): a collision space per yaw
+ * bin, reachability over position and yaw, and paths whose waypoints carry
+ * the yaw to hold (issue 13; the thesis' future work 6.2: "the robot might
+ * only fit through if it is rotated correctly"). Our own code: MRPT's
+ * planners and PTGs know the robot as a circle. */
+#pragma once
+
+#include <mrpt/poses/CPose2D.h>
+#include <voxplore/exploration/path.h>
+#include <voxplore/exploration/stages.h>
+
+#include <cstdint>
+#include <optional>
+#include <vector>
+
+namespace voxplore::exploration
+{
+/// @brief Per cell, one bit per yaw bin. The rectangle centred on the robot
+///        is symmetric under a half turn, so the bins cover [0, pi): bin k
+///        holds the yaws [k - 1/2, k + 1/2] * pi / bins (modulo pi).
+using YawMask = uint64_t;
+
+/// @brief The orientation collision space and what the robot reaches in it.
+struct FootprintSpace
+{
+  int bins = 0;           ///< yaw bins over [0, pi), 2..64
+  double length_m = 0;    ///< the rectangle along the robot's +X [m]
+  double width_m = 0;     ///< ... along +Y [m]
+  double margin_m = 0;    ///< kept from every occupied / open unknown cell [m]
+  /// Bit k: at the cell centre, at every yaw of bin k, the rectangle grown by
+  /// margin_m touches no Occupied cell (each cell a full square of G).
+  Grid<YawMask> clear_occ;
+  /// ... and no open Unknown cell (CollisionSpace::open_unknown) either.
+  Grid<YawMask> clear;
+  /// Bit k: the state (cell, k) is reached from the robot's state by moving
+  /// to an 8-neighbour in the same bin (a diagonal move needs both cells
+  /// beside it in that bin too) or turning in place to the next bin, through
+  /// `clear` states, after an escape from the start through `clear_occ`
+  /// states when the start is not clear (the cameras leave unknown round the
+  /// body at first).
+  Grid<YawMask> reach;
+  /// The escape: states the start reaches through clear_occ only, before the
+  /// first clear state (what planFootprintPath may enter besides `clear`).
+  Grid<YawMask> escape;
+  Cell robot;         ///< the robot's cell
+  int robot_bin = 0;  ///< the bin of the robot's yaw
+
+  double binWidth() const;
+  /// @brief Yaw of bin k's centre [rad], in [0, pi).
+  double binYaw(int k) const;
+  /// @brief The bin holding `yaw_rad` (any angle).
+  int binOf(double yaw_rad) const;
+  /// @brief Bits of every bin.
+  YawMask allBins() const;
+  /// @brief States the search may enter at row-major cell i: clear or escape.
+  YawMask allowed(std::size_t i) const { return clear.data()[i] | escape.data()[i]; }
+  /// @brief The bins of `allowed` that turning in place from `seed` reaches
+  ///        (circularly connected runs of `allowed` holding a bit of seed).
+  YawMask turnClosure(YawMask seed, YawMask allowed) const;
+};
+
+/// @brief The orientation collision space of the rectangle
+///        (p.footprint_length_m x p.footprint_width_m, grown by
+///        p.footprint_margin_m) on G, with p.yaw_bins bins, and its
+///        reachability from `robot`. Exact at the cell centres for every yaw of
+///        a bin: each obstacle cell is a square of G's resolution, tested
+///        analytically against the rectangle (a precomputed mask per cell
+///        offset, stamped from the border cells of the occupied and of the
+///        open unknown space only).
+/// @throws std::logic_error (ASSERTMSG_) on yaw_bins outside 2..64 or a
+///         footprint <= 0.
+FootprintSpace computeFootprintSpace(
+    const GroundGrid& g, const CollisionSpace& cs, const CollisionParams& p,
+    const mrpt::poses::CPose2D& robot);
+
+/// @brief Footprint model: the states of cs become those of the rectangle.
+///        Free: some bin reached (the robot can stand there); MaybeCollision:
+///        not reached, some bin clear of occupied cells but none clear of open
+///        unknown (the band frontiers are found in); Collision: otherwise.
+///        Occupied and Unknown stay. The circle's clearance grids stay (the
+///        path cost and the narrow-passage test use them).
+void applyFootprint(CollisionSpace& cs, const FootprintSpace& fs);
+
+/// @brief A* over (cell, yaw bin) from `start` to any bin at `goal`'s cell
+///        through states FootprintSpace::allowed: translations cost their
+///        length times PathParams' clearance factor, a turn by one bin costs
+///        its arc at half the circumradius. Runs of one bin are shortcut by line
+///        of sight (every sample's cell allows the bin) and cut into
+///        max_segment_m pieces. Path::yaws holds the yaw to hold on the way to
+///        each waypoint (the bin's yaw, or the half turn of it nearest the
+///        previous yaw), Path::narrow whether the planner's circle
+///        (CollisionSpace::radius_m) does not fit somewhere on that way.
+///        final_yaw: `goal_yaw` when turning in place at the goal reaches its
+///        bin, else the reachable bin's yaw nearest to it.
+/// @return empty when the goal cell is off the grid or not reached.
+std::optional<Path> planFootprintPath(
+    const CollisionSpace& cs, const FootprintSpace& fs, const mrpt::poses::CPose2D& start,
+    const Eigen::Vector2d& goal, double goal_yaw, const PathParams& p);
+
+}  // namespace voxplore::exploration

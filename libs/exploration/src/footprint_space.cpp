@@ -1,0 +1,313 @@
+/* voxplore — the rectangle's collision space per yaw bin and its reachability
+ * over (x, y, yaw) (issue 13). */
+#include <mrpt/core/exceptions.h>
+#include <mrpt/math/wrap2pi.h>
+#include <voxplore/exploration/footprint.h>
+
+#include <algorithm>
+#include <cmath>
+#include <deque>
+#include <vector>
+
+namespace voxplore::exploration
+{
+namespace
+{
+constexpr double kPi = 3.14159265358979323846;
+constexpr int kDx[8] = {1, -1, 0, 0, 1, 1, -1, -1};
+constexpr int kDy[8] = {0, 0, 1, -1, 1, -1, 1, -1};
+
+/// Do [lo1, hi1] and [lo2, hi2] (lengths < pi) overlap modulo pi?
+bool overlapModPi(double lo1, double hi1, double lo2, double hi2)
+{
+  const double shift = std::floor((lo1 - lo2) / kPi) * kPi;
+  for (int j = -1; j <= 2; ++j)
+  {
+    const double a = lo2 + shift + j * kPi, b = hi2 + shift + j * kPi;
+    if (a <= hi1 && b >= lo1) return true;
+  }
+  return false;
+}
+
+/// One entry of the stamp: the bins an obstacle cell at offset (dx, dy)
+/// cells from the robot's cell blocks.
+struct StampEntry
+{
+  int dx, dy;
+  YawMask bins;
+};
+
+/// The bins for which an obstacle square (side res) centred at offset
+/// (dx, dy) * res from the robot centre touches the rectangle (half sides a,
+/// b) grown by margin, at some yaw of the bin. For the bin's yaws the square
+/// is bounded, along each of the rectangle's axes, by its support
+/// h (|cos| + |sin|) at the bin's worst yaw, so the test is the centre point
+/// against the rectangle grown by margin + that support: exact on the faces,
+/// conservative only round the corners. The blocked yaws of a point at
+/// (rho, alpha) are theta = alpha -+ phi with acos(a'/rho) <= phi <= asin(b'/rho).
+std::vector<StampEntry> makeStamp(double a, double b, double margin, double res, int bins)
+{
+  const double h = 0.5 * res, delta = kPi / bins;
+  std::vector<double> ak(bins), bk(bins);
+  double reach = 0;
+  for (int k = 0; k < bins; ++k)
+  {
+    const double lo = k * delta - 0.5 * delta, hi = k * delta + 0.5 * delta;
+    // max of |cos| + |sin| over [lo, hi]: sqrt(2) when a diagonal lies inside.
+    double s = 0;
+    for (int i = 0; i <= 16; ++i)
+    {
+      const double t = lo + (hi - lo) * i / 16.0;
+      s = std::max(s, std::abs(std::cos(t)) + std::abs(std::sin(t)));
+    }
+    for (int j = -2; j <= 4; ++j)
+    {
+      const double diag = kPi / 4 + j * kPi / 2;
+      if (diag >= lo && diag <= hi) s = std::sqrt(2.0);
+    }
+    ak[k] = a + margin + h * s;
+    bk[k] = b + margin + h * s;
+    reach = std::max(reach, std::hypot(ak[k], bk[k]));
+  }
+  const int n = static_cast<int>(std::ceil(reach / res));
+  std::vector<StampEntry> out;
+  for (int dy = -n; dy <= n; ++dy)
+    for (int dx = -n; dx <= n; ++dx)
+    {
+      const double rho = res * std::hypot(dx, dy), alpha = std::atan2(dy, dx);
+      YawMask m = 0;
+      for (int k = 0; k < bins; ++k)
+      {
+        bool blocked;
+        if (rho <= bk[k] && rho <= ak[k])
+          blocked = true;
+        else if (rho * rho > ak[k] * ak[k] + bk[k] * bk[k])
+          blocked = false;
+        else
+        {
+          const double phi1 = rho > ak[k] ? std::acos(ak[k] / rho) : 0.0;
+          const double phi2 = rho > bk[k] ? std::asin(bk[k] / rho) : 0.5 * kPi;
+          const double lo = k * delta - 0.5 * delta, hi = k * delta + 0.5 * delta;
+          blocked = phi1 <= phi2 && (overlapModPi(lo, hi, alpha - phi2, alpha - phi1) ||
+                                     overlapModPi(lo, hi, alpha + phi1, alpha + phi2));
+        }
+        if (blocked) m |= YawMask(1) << k;
+      }
+      if (m) out.push_back({dx, dy, m});
+    }
+  return out;
+}
+
+/// ORs the stamp into `blocked` round every cell of `src` that has an
+/// 8-neighbour outside `src` (or on the grid border): a rectangle whose centre
+/// lies outside src and that overlaps a src square overlaps such a border square.
+void stampBorders(std::vector<YawMask>& blocked, const std::vector<uint8_t>& src, int nx, int ny,
+                  const std::vector<StampEntry>& stamp)
+{
+  for (int y = 0; y < ny; ++y)
+    for (int x = 0; x < nx; ++x)
+    {
+      const std::size_t i = static_cast<std::size_t>(y) * nx + x;
+      if (!src[i]) continue;
+      bool border = false;
+      for (int k = 0; k < 8 && !border; ++k)
+      {
+        const int u = x + kDx[k], v = y + kDy[k];
+        border = u < 0 || v < 0 || u >= nx || v >= ny || !src[static_cast<std::size_t>(v) * nx + u];
+      }
+      if (!border) continue;
+      for (const StampEntry& e : stamp)
+      {
+        // An obstacle at offset d from the robot: the robot at (x, y) - d.
+        const int u = x - e.dx, v = y - e.dy;
+        if (u < 0 || v < 0 || u >= nx || v >= ny) continue;
+        blocked[static_cast<std::size_t>(v) * nx + u] |= e.bins;
+      }
+    }
+}
+
+template <typename T>
+void sizeLike(Grid<T>& out, const Grid<SpaceState>& like, T value)
+{
+  out.setSize(like.getXMin(), like.getXMax(), like.getYMin(), like.getYMax(), like.getResolution(),
+              &value);
+}
+
+/// Flood over (cell, bin) from the masks already in `reach` (the cells in
+/// `queue`) through the states of `allowed`; with `stop_at`, cells whose
+/// reached bins hold a bit of stop_at are not expanded further.
+void flood(const FootprintSpace& fs, std::vector<YawMask>& reach, const std::vector<YawMask>& allowed,
+           std::deque<int>& queue, int nx, int ny, const std::vector<YawMask>* stop_at = nullptr)
+{
+  std::vector<uint8_t> queued(reach.size(), 0);
+  for (const int i : queue) queued[static_cast<std::size_t>(i)] = 1;
+  while (!queue.empty())
+  {
+    const int i = queue.front();
+    queue.pop_front();
+    queued[static_cast<std::size_t>(i)] = 0;
+    const YawMask m = reach[static_cast<std::size_t>(i)];
+    if (stop_at && (m & (*stop_at)[static_cast<std::size_t>(i)])) continue;
+    const int x = i % nx, y = i / nx;
+    for (int k = 0; k < 8; ++k)
+    {
+      const int u = x + kDx[k], v = y + kDy[k];
+      if (u < 0 || v < 0 || u >= nx || v >= ny) continue;
+      const int j = u + v * nx;
+      YawMask move = m & allowed[static_cast<std::size_t>(j)];
+      if (k >= 4)  // no corner cutting: both cells beside the diagonal allow the bin too
+        move &= allowed[static_cast<std::size_t>(u + y * nx)] &
+                allowed[static_cast<std::size_t>(x + v * nx)];
+      if (!move) continue;
+      const YawMask grown = fs.turnClosure(move, allowed[static_cast<std::size_t>(j)]);
+      const YawMask fresh = grown & ~reach[static_cast<std::size_t>(j)];
+      if (!fresh) continue;
+      reach[static_cast<std::size_t>(j)] |= fresh;
+      if (!queued[static_cast<std::size_t>(j)])
+      {
+        queued[static_cast<std::size_t>(j)] = 1;
+        queue.push_back(j);
+      }
+    }
+  }
+}
+}  // namespace
+
+double FootprintSpace::binWidth() const { return kPi / bins; }
+
+double FootprintSpace::binYaw(int k) const { return k * binWidth(); }
+
+int FootprintSpace::binOf(double yaw_rad) const
+{
+  double t = std::fmod(yaw_rad, kPi);
+  if (t < 0) t += kPi;
+  return static_cast<int>(std::lround(t / binWidth())) % bins;
+}
+
+YawMask FootprintSpace::allBins() const
+{
+  return bins >= 64 ? ~YawMask(0) : (YawMask(1) << bins) - 1;
+}
+
+YawMask FootprintSpace::turnClosure(YawMask seed, YawMask allowed) const
+{
+  YawMask m = seed & allowed;
+  const YawMask all = allBins();
+  for (;;)
+  {
+    // Circular shift by one bin either way (bin bins-1 borders bin 0: yaw pi is yaw 0).
+    const YawMask up = ((m << 1) | (m >> (bins - 1))) & all;
+    const YawMask down = ((m >> 1) | (m << (bins - 1))) & all;
+    const YawMask next = m | ((up | down) & allowed);
+    if (next == m) return m;
+    m = next;
+  }
+}
+
+FootprintSpace computeFootprintSpace(
+    const GroundGrid& g, const CollisionSpace& cs, const CollisionParams& p,
+    const mrpt::poses::CPose2D& robot)
+{
+  ASSERTMSG_(p.yaw_bins >= 2 && p.yaw_bins <= 64, "computeFootprintSpace: yaw_bins must be in 2..64");
+  ASSERTMSG_(p.footprint_length_m > 0 && p.footprint_width_m > 0,
+             "computeFootprintSpace: the footprint must be > 0");
+  FootprintSpace fs;
+  fs.bins = p.yaw_bins;
+  fs.length_m = p.footprint_length_m;
+  fs.width_m = p.footprint_width_m;
+  fs.margin_m = p.footprint_margin_m;
+  const auto& like = cs.state;
+  const int nx = static_cast<int>(like.getSizeX()), ny = static_cast<int>(like.getSizeY());
+  const std::size_t n = static_cast<std::size_t>(nx) * ny;
+  const double res = like.getResolution();
+
+  const auto stamp = makeStamp(0.5 * fs.length_m, 0.5 * fs.width_m, fs.margin_m, res, fs.bins);
+  std::vector<uint8_t> occ(n);
+  const auto& ground = g.state.data();
+  for (std::size_t i = 0; i < n; ++i) occ[i] = ground[i] == GroundState::Occupied;
+  std::vector<YawMask> blocked_occ(n, 0);
+  stampBorders(blocked_occ, occ, nx, ny, stamp);
+  std::vector<YawMask> blocked_unk(n, 0);
+  stampBorders(blocked_unk, cs.open_unknown, nx, ny, stamp);
+
+  const YawMask all = fs.allBins();
+  std::vector<YawMask> clear_occ(n), clear(n);
+  for (std::size_t i = 0; i < n; ++i)
+  {
+    const bool free = ground[i] == GroundState::Free;
+    clear_occ[i] = free ? all & ~blocked_occ[i] : 0;
+    clear[i] = clear_occ[i] & ~blocked_unk[i];
+  }
+
+  // Reachability from the robot's state. The robot stands where it is: its
+  // own state is taken as clear of occupied cells (the map may put a wall a
+  // cell too close); when it is not clear of open unknown it first escapes
+  // through clear_occ states to the nearest clear ones.
+  fs.robot = g.robot;
+  fs.robot_bin = fs.binOf(robot.phi());
+  std::vector<YawMask> reach(n, 0), escape(n, 0);
+  const std::size_t ri = static_cast<std::size_t>(g.robot.cy) * nx + g.robot.cx;
+  const YawMask own = YawMask(1) << fs.robot_bin;
+  std::deque<int> queue;
+  if (clear[ri] & own)
+  {
+    reach[ri] = fs.turnClosure(own, clear[ri]);
+    queue.push_back(static_cast<int>(ri));
+  }
+  else
+  {
+    // The escape may cross unknown cells (the ring the cameras did not see),
+    // never bring the rectangle onto an occupied one.
+    std::vector<YawMask> esc_allowed(n);
+    for (std::size_t i = 0; i < n; ++i)
+      esc_allowed[i] = ground[i] != GroundState::Occupied ? all & ~blocked_occ[i] : 0;
+    esc_allowed[ri] |= own;
+    escape[ri] = fs.turnClosure(own, esc_allowed[ri]);
+    std::deque<int> q{static_cast<int>(ri)};
+    flood(fs, escape, esc_allowed, q, nx, ny, &clear);
+    // Seeds: the clear states the escape reached.
+    for (std::size_t i = 0; i < n; ++i)
+    {
+      const YawMask s = escape[i] & clear[i];
+      if (!s) continue;
+      reach[i] = fs.turnClosure(s, clear[i]);
+      queue.push_back(static_cast<int>(i));
+    }
+    // The escape keeps only what lies before the first clear state.
+    for (std::size_t i = 0; i < n; ++i) escape[i] &= ~clear[i];
+  }
+  flood(fs, reach, clear, queue, nx, ny);
+  // The escape states are reached too (the robot passes through them).
+  for (std::size_t i = 0; i < n; ++i) reach[i] |= escape[i];
+
+  sizeLike(fs.clear_occ, like, YawMask(0));
+  sizeLike(fs.clear, like, YawMask(0));
+  sizeLike(fs.reach, like, YawMask(0));
+  sizeLike(fs.escape, like, YawMask(0));
+  std::copy(clear_occ.begin(), clear_occ.end(), fs.clear_occ.begin());
+  std::copy(clear.begin(), clear.end(), fs.clear.begin());
+  std::copy(reach.begin(), reach.end(), fs.reach.begin());
+  std::copy(escape.begin(), escape.end(), fs.escape.begin());
+  return fs;
+}
+
+void applyFootprint(CollisionSpace& cs, const FootprintSpace& fs)
+{
+  cs.footprint = true;
+  auto st = cs.state.begin();
+  const auto& reach = fs.reach.data();
+  const auto& clear_occ = fs.clear_occ.data();
+  const auto& clear = fs.clear.data();
+  for (std::size_t i = 0; i < reach.size(); ++i, ++st)
+  {
+    if (*st == SpaceState::Occupied || *st == SpaceState::Unknown) continue;
+    if (reach[i] & clear[i])
+      *st = SpaceState::Free;
+    else if (clear_occ[i] && !clear[i])
+      *st = SpaceState::MaybeCollision;
+    else
+      *st = SpaceState::Collision;
+  }
+}
+
+}  // namespace voxplore::exploration

@@ -1,0 +1,320 @@
+/* voxplore tests — planning the omniRob's rectangle in (x, y, yaw) (issue 13):
+ * doors passed turned lengthwise or refused, corridor corners never clipped. */
+#include <gtest/gtest.h>
+#include <mrpt/math/wrap2pi.h>
+#include <voxplore/exploration/Planner.h>
+#include <voxplore/exploration/footprint.h>
+
+#include <cmath>
+#include <random>
+#include <vector>
+
+#include "exploration_test_maps.h"
+
+using namespace voxplore::exploration;
+using mrpt::poses::CPose2D;
+using voxplore::test::makeGround;
+using voxplore::test::paint;
+
+namespace
+{
+constexpr double kRes = 0.05;
+constexpr double kLength = 1.2, kWidth = 0.712;  // the omniRob
+
+CollisionParams omniRob()
+{
+  CollisionParams p;
+  p.model = CollisionParams::Model::Footprint;
+  p.r_coll_m = std::hypot(kLength / 2, kWidth / 2);
+  p.footprint_length_m = kLength;
+  p.footprint_width_m = kWidth;
+  return p;
+}
+
+/// Two known rooms, x in [-3, 0) and [0.1, 3.1), y in [-1.5, 1.5), split by
+/// a 10 cm wall with a door of `door_m` centred on y = 0; walls round both.
+GroundGrid twoRoomsWithADoor(double door_m)
+{
+  GroundGrid g = makeGround(-3.2, 3.3, -1.7, 1.7, kRes, GroundState::Occupied);
+  paint(g, -3.0, 3.1, -1.5, 1.5, GroundState::Free);
+  paint(g, 0.0, 0.1, -1.5, -0.5 * door_m, GroundState::Occupied);
+  paint(g, 0.0, 0.1, 0.5 * door_m, 1.5, GroundState::Occupied);
+  return g;
+}
+
+/// Does the rectangle (half sides hl, hw) at `pose` overlap the square cell
+/// (cx, cy) of g? Separating axes: the two of the rectangle and the two of
+/// the square.
+bool overlapsCell(const GroundGrid& g, int cx, int cy, const CPose2D& pose, double hl, double hw)
+{
+  const double h = 0.5 * g.state.getResolution();
+  const double sx = g.state.idx2x(cx), sy = g.state.idx2y(cy);
+  const double c = std::cos(pose.phi()), s = std::sin(pose.phi());
+  // the square's centre in the rectangle's frame
+  const double dx = sx - pose.x(), dy = sy - pose.y();
+  const double u = c * dx + s * dy, v = -s * dx + c * dy;
+  const double support = h * (std::abs(c) + std::abs(s));
+  if (std::abs(u) > hl + support || std::abs(v) > hw + support) return false;
+  // the rectangle's extent along the world axes
+  const double ex = hl * std::abs(c) + hw * std::abs(s), ey = hl * std::abs(s) + hw * std::abs(c);
+  return std::abs(dx) <= ex + h && std::abs(dy) <= ey + h;
+}
+
+/// The rectangle at `pose` overlaps an Occupied cell of g.
+bool clipsAWall(const GroundGrid& g, const CPose2D& pose, double hl = kLength / 2,
+                double hw = kWidth / 2)
+{
+  for (int cy = 0; cy < static_cast<int>(g.state.getSizeY()); ++cy)
+    for (int cx = 0; cx < static_cast<int>(g.state.getSizeX()); ++cx)
+      if (*g.state.cellByIndex(cx, cy) == GroundState::Occupied &&
+          overlapsCell(g, cx, cy, pose, hl, hw))
+        return true;
+  return false;
+}
+
+/// Every pose along the path (1 cm and 1 deg apart, turns in place included)
+/// keeps the bare rectangle off every wall square.
+void expectNeverClips(const GroundGrid& g, const Path& path)
+{
+  ASSERT_EQ(path.waypoints.size(), path.yaws.size());
+  for (std::size_t k = 0; k + 1 < path.waypoints.size(); ++k)
+  {
+    const Eigen::Vector2d a = path.waypoints[k], b = path.waypoints[k + 1];
+    const double ya = path.yaws[k], yb = path.yaws[k + 1];
+    // The drive to waypoint k+1 turns to its yaw first, then translates.
+    const int turns = std::max(1, static_cast<int>(std::ceil(std::abs(yb - ya) / 0.0175)));
+    for (int i = 0; i <= turns; ++i)
+    {
+      const CPose2D p(a.x(), a.y(), ya + (yb - ya) * i / turns);
+      ASSERT_FALSE(clipsAWall(g, p)) << "turning at waypoint " << k << " to yaw " << p.phi();
+    }
+    const int steps = std::max(1, static_cast<int>(std::ceil((b - a).norm() / 0.01)));
+    for (int i = 0; i <= steps; ++i)
+    {
+      const Eigen::Vector2d q = a + (b - a) * (static_cast<double>(i) / steps);
+      ASSERT_FALSE(clipsAWall(g, CPose2D(q.x(), q.y(), yb)))
+          << "on the way to waypoint " << k + 1 << " at (" << q.x() << ", " << q.y() << ")";
+    }
+  }
+}
+
+struct Planned
+{
+  CollisionSpace cs;
+  FootprintSpace fs;
+};
+
+Planned footprintSpaceOf(GroundGrid& g, const CPose2D& robot, const CollisionParams& p = omniRob())
+{
+  cellOf(g.state, Eigen::Vector2d(robot.x(), robot.y()), g.robot);
+  Planned out;
+  out.cs = computeCollisionSpace(g, p);
+  out.fs = computeFootprintSpace(g, out.cs, p, robot);
+  applyFootprint(out.cs, out.fs);
+  return out;
+}
+
+bool reachedAt(const Planned& pl, double x, double y)
+{
+  Cell c;
+  if (!cellOf(pl.fs.reach, Eigen::Vector2d(x, y), c)) return false;
+  return *pl.fs.reach.cellByIndex(c.cx, c.cy) != 0;
+}
+}  // namespace
+
+TEST(FootprintSpace, ANinetyCentimetreDoorIsPassedTurnedLengthwise)
+{
+  GroundGrid g = twoRoomsWithADoor(0.90);
+  // Start across the door's axis: the robot must turn to pass.
+  const CPose2D start(-1.5, 0.3, M_PI / 2);
+  const Planned pl = footprintSpaceOf(g, start);
+  EXPECT_TRUE(reachedAt(pl, 1.6, 0.0));
+  // The circle of the thesis does not pass.
+  CollisionParams circle = omniRob();
+  circle.model = CollisionParams::Model::Circle;
+  const CollisionSpace cs_circle = computeCollisionSpace(g, circle);
+  EXPECT_FALSE(planPath(cs_circle, {start.x(), start.y()}, {1.6, 0.0}, PathParams{}));
+
+  const auto path = planFootprintPath(pl.cs, pl.fs, start, {1.6, 0.0}, M_PI / 2, PathParams{});
+  ASSERT_TRUE(path);
+  expectNeverClips(g, *path);
+  // In the doorway (x in [0, 0.1]) the robot is lengthwise: yaw 0 or pi, within half a bin.
+  bool crossed = false;
+  for (std::size_t k = 1; k < path->waypoints.size(); ++k)
+  {
+    const Eigen::Vector2d a = path->waypoints[k - 1], b = path->waypoints[k];
+    if ((a.x() - 0.05) * (b.x() - 0.05) > 0) continue;
+    crossed = true;
+    const double off = std::abs(mrpt::math::wrapToPi(2.0 * path->yaws[k])) / 2.0;
+    EXPECT_LE(off, 0.5 * pl.fs.binWidth() + 1e-9) << "yaw through the door " << path->yaws[k];
+    EXPECT_TRUE(path->narrow[k]);
+  }
+  EXPECT_TRUE(crossed);
+  ASSERT_TRUE(path->final_yaw);
+  EXPECT_NEAR((path->waypoints.back() - Eigen::Vector2d(1.6, 0.0)).norm(), 0.0, 1e-9);
+}
+
+TEST(FootprintSpace, ASeventyCentimetreDoorIsRefused)
+{
+  GroundGrid g = twoRoomsWithADoor(0.70);
+  const CPose2D start(-1.5, 0.0, 0.0);
+  const Planned pl = footprintSpaceOf(g, start);
+  EXPECT_TRUE(reachedAt(pl, -1.0, 0.0));
+  for (double x = 0.15; x < 3.0; x += 0.05)
+    for (double y = -1.4; y < 1.4; y += 0.05) ASSERT_FALSE(reachedAt(pl, x, y)) << x << ", " << y;
+  EXPECT_FALSE(planFootprintPath(pl.cs, pl.fs, start, {1.6, 0.0}, 0.0, PathParams{}));
+  // The far room's cells are not Free for the planner either.
+  Cell c;
+  ASSERT_TRUE(cellOf(pl.cs.state, Eigen::Vector2d(1.6, 0.0), c));
+  EXPECT_NE(*pl.cs.state.cellByIndex(c.cx, c.cy), SpaceState::Free);
+}
+
+TEST(FootprintSpace, AClearBinKeepsTheMarginFromEveryWallSquareAtEveryYawOfTheBin)
+{
+  // Walls and pillars at random; every (cell, bin) said clear is checked at
+  // 9 yaws of the bin with the rectangle grown by the margin.
+  GroundGrid g = makeGround(-2.0, 2.0, -2.0, 2.0, kRes, GroundState::Free);
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<double> u(-1.9, 1.9);
+  for (int k = 0; k < 12; ++k)
+  {
+    const double x = u(rng), y = u(rng);
+    paint(g, x, x + 0.1, y, y + 0.15, GroundState::Occupied);
+  }
+  const CPose2D robot(0, 0, 0);
+  paint(g, -0.05, 0.05, -0.05, 0.05, GroundState::Free);
+  const Planned pl = footprintSpaceOf(g, robot);
+  const CollisionParams p = omniRob();
+  int checked = 0, clear_states = 0;
+  for (int cy = 0; cy < static_cast<int>(g.state.getSizeY()); cy += 3)
+    for (int cx = 0; cx < static_cast<int>(g.state.getSizeX()); cx += 3)
+    {
+      const YawMask m = *pl.fs.clear_occ.cellByIndex(cx, cy);
+      for (int b = 0; b < pl.fs.bins; b += 3)
+      {
+        if (!((m >> b) & 1u)) continue;
+        ++clear_states;
+        for (int i = -4; i <= 4; ++i)
+        {
+          const double yaw = pl.fs.binYaw(b) + i / 8.0 * pl.fs.binWidth();
+          const CPose2D pose(g.state.idx2x(cx), g.state.idx2y(cy), yaw);
+          ASSERT_FALSE(clipsAWall(g, pose, 0.5 * kLength + p.footprint_margin_m,
+                                  0.5 * kWidth + p.footprint_margin_m))
+              << "cell (" << cx << ", " << cy << ") bin " << b << " yaw " << yaw;
+          ++checked;
+        }
+      }
+    }
+  EXPECT_GT(clear_states, 100);
+  EXPECT_GT(checked, 900);
+}
+
+TEST(FootprintSpace, ABinIsBlockedExactlyWhenTheRectangleAtAYawOfTheBinComesNearAWall)
+{
+  // A wall of squares along y = 1 (cells y in [1, 1.1)); the robot centre at
+  // x = 0.025 and y below it, bin 0 (yaws within +-delta/2 of 0). The squares
+  // are tested as the rectangle grown by the margin plus their support
+  // h (|cos| + |sin|) at the bin's worst yaw: the bin is blocked exactly when
+  // that rectangle's top corner, tilted by delta/2, reaches the squares' centres.
+  GroundGrid g = makeGround(-2.0, 2.0, -1.0, 1.5, kRes, GroundState::Free);
+  paint(g, -2.0, 2.0, 1.0, 1.1, GroundState::Occupied);
+  const CPose2D robot(0.025, 0.025, 0);
+  const Planned pl = footprintSpaceOf(g, robot);
+  const CollisionParams p = omniRob();
+  const double half = 0.5 * pl.fs.binWidth();
+  const double support = 0.5 * kRes * (std::cos(half) + std::sin(half));
+  const double a = 0.5 * kLength + p.footprint_margin_m + support;
+  const double b = 0.5 * kWidth + p.footprint_margin_m + support;
+  const double reach_up = a * std::sin(half) + b * std::cos(half);
+  int clear = 0, blocked = 0;
+  const int cx = g.state.x2idx(0.025);
+  for (int cy = 0; cy < static_cast<int>(g.state.getSizeY()); ++cy)
+  {
+    const double y = g.state.idx2y(cy);
+    if (y >= 1.0) break;
+    const bool clear0 = *pl.fs.clear_occ.cellByIndex(cx, cy) & 1u;
+    const double d = 1.025 - y;  // to the squares' centres
+    // The squares' centres are 5 cm apart along the wall: the corner may fall
+    // between two of them (lower by at most 2.5 cm * sin(delta/2)).
+    if (d > reach_up + 1e-6)
+    {
+      EXPECT_TRUE(clear0) << "y " << y;
+    }
+    if (d < reach_up - 0.025 * std::sin(half) - 1e-6)
+    {
+      EXPECT_FALSE(clear0) << "y " << y;
+    }
+    (clear0 ? clear : blocked)++;
+  }
+  EXPECT_GT(clear, 5);
+  EXPECT_GT(blocked, 5);
+}
+
+TEST(FootprintSpace, ACorridorCornerNarrowerThanTheDiagonalIsRefusedOrTurnedWithoutClipping)
+{
+  // An L of corridors: along x at y in [-w/2, w/2), then along y at x in [-w/2, w/2).
+  for (const double w : {0.80, 0.95, 1.10})
+  {
+    SCOPED_TRACE("corridor width " + std::to_string(w));
+    GroundGrid g = makeGround(-4.2, 1.0, -1.0, 4.2, kRes, GroundState::Occupied);
+    paint(g, -4.0, 0.5 * w, -0.5 * w, 0.5 * w, GroundState::Free);
+    paint(g, -0.5 * w, 0.5 * w, -0.5 * w, 4.0, GroundState::Free);
+    const CPose2D start(-3.0, 0.0, 0.0);
+    const Planned pl = footprintSpaceOf(g, start);
+    const auto path = planFootprintPath(pl.cs, pl.fs, start, {0.0, 3.0}, M_PI / 2, PathParams{});
+    if (w < 0.85)  // the 1.2 x 0.712 rectangle cannot round a 0.80 m corner
+    {
+      EXPECT_FALSE(path);
+    }
+    if (w > 1.05)  // turned within the corner, in place and lengthwise moves
+    {
+      EXPECT_TRUE(path);
+    }
+    if (path) expectNeverClips(g, *path);
+  }
+}
+
+TEST(FootprintSpace, TheRobotStartingWithUnknownRoundItEscapesToTheKnownFloor)
+{
+  // The cameras leave unknown round the body at first: the start is not
+  // clear of open unknown, the rest of the room is.
+  GroundGrid g = makeGround(-3.0, 3.0, -2.0, 2.0, kRes, GroundState::Occupied);
+  paint(g, -2.8, 2.8, -1.8, 1.8, GroundState::Free);
+  paint(g, -0.9, 0.9, -0.6, 0.6, GroundState::Unknown);
+  paint(g, -0.6, 0.6, -0.36, 0.36, GroundState::Free);  // under the body
+  paint(g, 2.0, 2.8, 1.0, 1.8, GroundState::Unknown);  // unexplored beyond
+  const CPose2D start(0, 0, 0);
+  const Planned pl = footprintSpaceOf(g, start);
+  EXPECT_TRUE(reachedAt(pl, -2.0, -1.0));
+  const auto path = planFootprintPath(pl.cs, pl.fs, start, {-2.0, -1.0}, 0.0, PathParams{});
+  ASSERT_TRUE(path);
+  expectNeverClips(g, *path);
+}
+
+TEST(FootprintPlanner, TheFootprintModelExploresTheRoomBehindTheDoorTheCircleCannot)
+{
+  // plan() with model = footprint on an OcTree: a known room, a 0.9 m door,
+  // and unknown beyond it: the frontier is the door, the plan goes through it.
+  octomap::OcTree t(kRes);
+  voxplore::test::addRoom(t, -3.0, 0.0, -1.5, 1.5);
+  voxplore::test::setColumns(t, 0.0, 0.6, -0.45, 0.45, false);  // the door, seen a little beyond
+  voxplore::test::setColumns(t, 0.0, 0.6, -0.50, -0.45, true);    // its jambs
+  voxplore::test::setColumns(t, 0.0, 0.6, 0.45, 0.50, true);
+  PlannerParams p;
+  p.collision = omniRob();
+  p.projection.footprint_length_m = kLength;
+  p.projection.footprint_width_m = kWidth;
+  p.strategy = Strategy::NearestFrontier;
+  const CPose2D robot(-1.5, 0.0, M_PI / 2);
+  const PlanResult r = plan(t, robot, p);
+  ASSERT_TRUE(r.ok()) << r.message;
+  ASSERT_TRUE(r.footprint);
+  ASSERT_EQ(r.waypoint_yaws.size(), r.waypoints.size());
+  ASSERT_EQ(r.waypoint_narrow.size(), r.waypoints.size());
+  EXPECT_GT(r.target.x(), -0.7);  // at the door (its frontier), not short of it
+
+  PlannerParams circle = p;
+  circle.collision.model = CollisionParams::Model::Circle;
+  const PlanResult rc = plan(t, robot, circle);
+  EXPECT_FALSE(rc.ok() && rc.target.x() > -0.7) << rc.message;
+}
