@@ -136,8 +136,11 @@ void CollisionParams::loadFromConfigFile(const mrpt::config::CConfigFileBase& c,
                        "expected circle or footprint");
   model = m == "circle" ? Model::Circle : Model::Footprint;
   MRPT_LOAD_CONFIG_VAR(footprint_margin_m, double, c, s);
+  MRPT_LOAD_CONFIG_VAR(footprint_turn_margin_m, double, c, s);
   MRPT_LOAD_CONFIG_VAR(yaw_bins, int, c, s);
   common::requireValid(footprint_margin_m >= 0, c, s, "footprint_margin_m", "must be >= 0");
+  common::requireValid(footprint_turn_margin_m >= footprint_margin_m, c, s,
+                       "footprint_turn_margin_m", "must be >= footprint_margin_m");
   common::requireValid(yaw_bins >= 2 && yaw_bins <= 64, c, s, "yaw_bins", "must be in 2..64");
 }
 
@@ -148,6 +151,7 @@ void CollisionParams::saveToConfigFile(mrpt::config::CConfigFileBase& c, const s
   MRPT_SAVE_CONFIG_VAR(min_open_unknown_depth_m, c, s);
   c.write(s, "model", model == Model::Circle ? "circle" : "footprint");
   MRPT_SAVE_CONFIG_VAR(footprint_margin_m, c, s);
+  MRPT_SAVE_CONFIG_VAR(footprint_turn_margin_m, c, s);
   MRPT_SAVE_CONFIG_VAR(yaw_bins, c, s);
 }
 

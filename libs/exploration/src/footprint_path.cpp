@@ -21,7 +21,7 @@ constexpr int kDx[8] = {1, -1, 0, 0, 1, 1, -1, -1};
 constexpr int kDy[8] = {0, 0, 1, -1, 1, -1, 1, -1};
 constexpr uint8_t kUnseen = 0xff, kClosedBit = 0x80;
 constexpr uint8_t kTurnUp = 8, kTurnDown = 9;  // came from bin - 1 / bin + 1
-constexpr double kMaxTurnPerWaypoint = kPi / 3;  // a planned turn is cut into pieces of at most this
+constexpr double kMaxTurnPerWaypoint = kPi * 4 / 9;  // a planned turn is cut into pieces of at most 80 deg (the driver turns the short way)
 
 /// The search over states s = cell * bins + bin.
 struct SE2Search
@@ -61,6 +61,12 @@ struct SE2Search
   }
 
   bool allowed(std::size_t cell, int bin) const { return (fs.allowed(cell) >> bin) & 1u; }
+  bool turnable(std::size_t cell, int bin) const { return (fs.turnable(cell) >> bin) & 1u; }
+  /// Translations outside clear_turn (closer than the turn margin) cost double.
+  double comfort(std::size_t cell, int bin) const
+  {
+    return ((fs.clear_turn.data()[cell] >> bin) & 1u) ? 1.0 : 2.0;
+  }
 
   /// State indices start..goal cell (any bin); empty when not reached.
   std::vector<std::size_t> run(std::size_t start_cell, int start_bin, std::size_t goal_cell)
@@ -107,11 +113,13 @@ struct SE2Search
         if (k >= 4 && (!allowed(static_cast<std::size_t>(x + cy * nx), bin) ||
                        !allowed(static_cast<std::size_t>(cx + y * nx), bin)))
           continue;
-        relax(j * bins + bin, (k < 4 ? 1.0 : kSqrt2) * res * factor(j), static_cast<uint8_t>(k), j);
+        relax(j * bins + bin, (k < 4 ? 1.0 : kSqrt2) * res * factor(j) * comfort(j, bin),
+              static_cast<uint8_t>(k), j);
       }
+      if (!turnable(cell, bin)) continue;
       const int up = (bin + 1) % bins, down = (bin + bins - 1) % bins;
-      if (allowed(cell, up)) relax(cell * bins + up, turn_cost, kTurnUp, cell);
-      if (allowed(cell, down)) relax(cell * bins + down, turn_cost, kTurnDown, cell);
+      if (turnable(cell, up)) relax(cell * bins + up, turn_cost, kTurnUp, cell);
+      if (turnable(cell, down)) relax(cell * bins + down, turn_cost, kTurnDown, cell);
     }
     std::vector<std::size_t> states;
     if (found == std::numeric_limits<std::size_t>::max()) return states;
@@ -284,7 +292,8 @@ std::optional<Path> planFootprintPath(
   // reachable bin nearest it; turned to the planned way round.
   const std::size_t last = states.back();
   const int arrive = static_cast<int>(last % fs.bins);
-  const YawMask at_goal = fs.turnClosure(YawMask(1) << arrive, fs.allowed(t_cell));
+  const YawMask at_goal =
+      (YawMask(1) << arrive) | fs.turnClosure(YawMask(1) << arrive, fs.turnable(t_cell));
   const int want = fs.binOf(goal_yaw);
   int best_bin = arrive, best_steps = 0, best_dist = fs.bins;
   for (const int dir : {+1, -1})

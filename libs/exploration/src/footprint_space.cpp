@@ -134,10 +134,12 @@ void sizeLike(Grid<T>& out, const Grid<SpaceState>& like, T value)
 }
 
 /// Flood over (cell, bin) from the masks already in `reach` (the cells in
-/// `queue`) through the states of `allowed`; with `stop_at`, cells whose
-/// reached bins hold a bit of stop_at are not expanded further.
+/// `queue`) through the states of `allowed`, turning in place only between
+/// bins of `turn` (a subset of allowed); with `stop_at`, cells whose reached
+/// bins hold a bit of stop_at are not expanded further.
 void flood(const FootprintSpace& fs, std::vector<YawMask>& reach, const std::vector<YawMask>& allowed,
-           std::deque<int>& queue, int nx, int ny, const std::vector<YawMask>* stop_at = nullptr)
+           const std::vector<YawMask>& turn, std::deque<int>& queue, int nx, int ny,
+           const std::vector<YawMask>* stop_at = nullptr)
 {
   std::vector<uint8_t> queued(reach.size(), 0);
   for (const int i : queue) queued[static_cast<std::size_t>(i)] = 1;
@@ -159,7 +161,8 @@ void flood(const FootprintSpace& fs, std::vector<YawMask>& reach, const std::vec
         move &= allowed[static_cast<std::size_t>(u + y * nx)] &
                 allowed[static_cast<std::size_t>(x + v * nx)];
       if (!move) continue;
-      const YawMask grown = fs.turnClosure(move, allowed[static_cast<std::size_t>(j)]);
+      const YawMask t = turn[static_cast<std::size_t>(j)];
+      const YawMask grown = move | fs.turnClosure(move & t, t);
       const YawMask fresh = grown & ~reach[static_cast<std::size_t>(j)];
       if (!fresh) continue;
       reach[static_cast<std::size_t>(j)] |= fresh;
@@ -221,22 +224,28 @@ FootprintSpace computeFootprintSpace(
   const std::size_t n = static_cast<std::size_t>(nx) * ny;
   const double res = like.getResolution();
 
+  fs.turn_margin_m = std::max(p.footprint_turn_margin_m, p.footprint_margin_m);
   const auto stamp = makeStamp(0.5 * fs.length_m, 0.5 * fs.width_m, fs.margin_m, res, fs.bins);
+  const auto stamp_turn =
+      makeStamp(0.5 * fs.length_m, 0.5 * fs.width_m, fs.turn_margin_m, res, fs.bins);
   std::vector<uint8_t> occ(n);
   const auto& ground = g.state.data();
   for (std::size_t i = 0; i < n; ++i) occ[i] = ground[i] == GroundState::Occupied;
-  std::vector<YawMask> blocked_occ(n, 0);
+  std::vector<YawMask> blocked_occ(n, 0), blocked_turn(n, 0);
   stampBorders(blocked_occ, occ, nx, ny, stamp);
+  stampBorders(blocked_turn, occ, nx, ny, stamp_turn);
   std::vector<YawMask> blocked_unk(n, 0);
   stampBorders(blocked_unk, cs.open_unknown, nx, ny, stamp);
+  stampBorders(blocked_turn, cs.open_unknown, nx, ny, stamp_turn);
 
   const YawMask all = fs.allBins();
-  std::vector<YawMask> clear_occ(n), clear(n);
+  std::vector<YawMask> clear_occ(n), clear(n), clear_turn(n);
   for (std::size_t i = 0; i < n; ++i)
   {
     const bool free = ground[i] == GroundState::Free;
     clear_occ[i] = free ? all & ~blocked_occ[i] : 0;
     clear[i] = clear_occ[i] & ~blocked_unk[i];
+    clear_turn[i] = clear[i] & ~blocked_turn[i];
   }
 
   // Reachability from the robot's state. The robot stands where it is: its
@@ -251,7 +260,7 @@ FootprintSpace computeFootprintSpace(
   std::deque<int> queue;
   if (clear[ri] & own)
   {
-    reach[ri] = fs.turnClosure(own, clear[ri]);
+    reach[ri] = own | fs.turnClosure(own, clear_turn[ri]);
     queue.push_back(static_cast<int>(ri));
   }
   else
@@ -264,24 +273,26 @@ FootprintSpace computeFootprintSpace(
     esc_allowed[ri] |= own;
     escape[ri] = fs.turnClosure(own, esc_allowed[ri]);
     std::deque<int> q{static_cast<int>(ri)};
-    flood(fs, escape, esc_allowed, q, nx, ny, &clear);
+    flood(fs, escape, esc_allowed, esc_allowed, q, nx, ny, &clear);
     // Seeds: the clear states the escape reached.
     for (std::size_t i = 0; i < n; ++i)
     {
       const YawMask s = escape[i] & clear[i];
       if (!s) continue;
-      reach[i] = fs.turnClosure(s, clear[i]);
+      reach[i] = s | fs.turnClosure(s, clear_turn[i]);
       queue.push_back(static_cast<int>(i));
     }
     // The escape keeps only what lies before the first clear state.
     for (std::size_t i = 0; i < n; ++i) escape[i] &= ~clear[i];
   }
-  flood(fs, reach, clear, queue, nx, ny);
+  flood(fs, reach, clear, clear_turn, queue, nx, ny);
   // The escape states are reached too (the robot passes through them).
   for (std::size_t i = 0; i < n; ++i) reach[i] |= escape[i];
 
   sizeLike(fs.clear_occ, like, YawMask(0));
   sizeLike(fs.clear, like, YawMask(0));
+  sizeLike(fs.clear_turn, like, YawMask(0));
+  std::copy(clear_turn.begin(), clear_turn.end(), fs.clear_turn.begin());
   sizeLike(fs.reach, like, YawMask(0));
   sizeLike(fs.escape, like, YawMask(0));
   std::copy(clear_occ.begin(), clear_occ.end(), fs.clear_occ.begin());

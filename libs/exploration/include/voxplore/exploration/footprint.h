@@ -32,6 +32,12 @@ struct FootprintSpace
   Grid<YawMask> clear_occ;
   /// ... and no open Unknown cell (CollisionSpace::open_unknown) either.
   Grid<YawMask> clear;
+  /// clear with turn_margin_m: turning in place between two bins needs both
+  /// here (the footprint guard holds a turn that brings a corner within its
+  /// margin of a sensed point; the map is off by up to a cell). Also the
+  /// states the path prefers: a translation outside it costs double.
+  Grid<YawMask> clear_turn;
+  double turn_margin_m = 0;  ///< >= margin_m [m]
   /// Bit k: the state (cell, k) is reached from the robot's state by moving
   /// to an 8-neighbour in the same bin (a diagonal move needs both cells
   /// beside it in that bin too) or turning in place to the next bin, through
@@ -54,6 +60,8 @@ struct FootprintSpace
   YawMask allBins() const;
   /// @brief States the search may enter at row-major cell i: clear or escape.
   YawMask allowed(std::size_t i) const { return clear.data()[i] | escape.data()[i]; }
+  /// @brief Bins between which the search may turn at cell i: clear_turn or escape.
+  YawMask turnable(std::size_t i) const { return clear_turn.data()[i] | escape.data()[i]; }
   /// @brief The bins of `allowed` that turning in place from `seed` reaches
   ///        (circularly connected runs of `allowed` holding a bit of seed).
   YawMask turnClosure(YawMask seed, YawMask allowed) const;
@@ -61,7 +69,7 @@ struct FootprintSpace
 
 /// @brief The orientation collision space of the rectangle
 ///        (p.footprint_length_m x p.footprint_width_m, grown by
-///        p.footprint_margin_m) on G, with p.yaw_bins bins, and its
+///        p.footprint_margin_m, and by p.footprint_turn_margin_m for turning) on G, with p.yaw_bins bins, and its
 ///        reachability from `robot`. Exact at the cell centres for every yaw of
 ///        a bin: each obstacle cell is a square of G's resolution, tested
 ///        analytically against the rectangle (a precomputed mask per cell
@@ -82,9 +90,10 @@ FootprintSpace computeFootprintSpace(
 void applyFootprint(CollisionSpace& cs, const FootprintSpace& fs);
 
 /// @brief A* over (cell, yaw bin) from `start` to any bin at `goal`'s cell
-///        through states FootprintSpace::allowed: translations cost their
-///        length times PathParams' clearance factor, a turn by one bin costs
-///        its arc at half the circumradius. Runs of one bin are shortcut by line
+///        through states FootprintSpace::allowed, turning only between
+///        FootprintSpace::turnable bins: translations cost their length times
+///        PathParams' clearance factor (doubled outside clear_turn), a turn by
+///        one bin costs its arc at half the circumradius. Runs of one bin are shortcut by line
 ///        of sight (every sample's cell allows the bin) and cut into
 ///        max_segment_m pieces. Path::yaws holds the yaw to hold on the way to
 ///        each waypoint (the bin's yaw, or the half turn of it nearest the

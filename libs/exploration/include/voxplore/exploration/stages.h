@@ -102,6 +102,7 @@ struct CollisionParams : public mrpt::config::CLoadableOptions
   /// set from the robot profile like r_coll_m.
   double footprint_length_m = 1.200, footprint_width_m = 0.712;
   double footprint_margin_m = 0.02;  ///< Footprint: kept from every occupied / open unknown cell at the cell centres [m]
+  double footprint_turn_margin_m = 0.05;  ///< Footprint: ... while turning in place (and preferred) [m]
   int yaw_bins = 32;                 ///< Footprint: yaw bins over [0, 180) deg, 2..64
   void loadFromConfigFile(const mrpt::config::CConfigFileBase& c, const std::string& s) override;
   void saveToConfigFile(mrpt::config::CConfigFileBase& c, const std::string& s) const override;
