@@ -304,7 +304,7 @@ FootprintSpace computeFootprintSpace(
 
 void applyFootprint(CollisionSpace& cs, const FootprintSpace& fs)
 {
-  cs.footprint = true;
+  cs.frontier_grow_m = 0.5 * fs.width_m + fs.margin_m + cs.state.getResolution();
   auto st = cs.state.begin();
   const auto& reach = fs.reach.data();
   const auto& clear_occ = fs.clear_occ.data();

@@ -23,7 +23,7 @@ struct Search
   int nx = 0, ny = 0;
   const SpaceState* space = nullptr;
   const uint8_t* open_unknown = nullptr;  ///< CollisionSpace::open_unknown
-  bool footprint = false;       ///< CollisionSpace::footprint
+  int grow_cells = 0;           ///< CollisionSpace::frontier_grow_m in cells
   std::vector<double> dist;     ///< cells; < 0: not reached
   std::vector<uint8_t> escape;  ///< reached from a non-Free start through non-Free cells only
   bool free_settled = false;    ///< a Free cell has been settled: escaping stops
@@ -84,24 +84,52 @@ bool isOpenUnknown(const Search& s, int x, int y)
   return s.open_unknown[x + y * s.nx] != 0;
 }
 
-/// Reached Free/MaybeCollision cell with an open Unknown (or off-grid)
-/// 4-neighbour.
-bool isFrontierCell(const Search& s, int i)
+/// A known free cell (any space state but Occupied / Unknown) with an open
+/// Unknown (or off-grid) 4-neighbour.
+bool bordersOpenUnknown(const Search& s, int i)
 {
-  if (s.footprint)
-  {
-    // Any known free cell; its group must hold a reached one (groupFrontiers).
-    if (s.space[i] == SpaceState::Occupied || s.space[i] == SpaceState::Unknown) return false;
-  }
-  else
-  {
-    if (s.dist[i] < 0) return false;
-    if (s.space[i] != SpaceState::Free && s.space[i] != SpaceState::MaybeCollision) return false;
-  }
+  if (s.space[i] == SpaceState::Occupied || s.space[i] == SpaceState::Unknown) return false;
   const int cx = i % s.nx, cy = i / s.nx;
   for (int k = 0; k < 4; ++k)
     if (isOpenUnknown(s, cx + kDx[k], cy + kDy[k])) return true;
   return false;
+}
+
+/// Reached Free/MaybeCollision cell with an open Unknown (or off-grid)
+/// 4-neighbour.
+bool isFrontierCell(const Search& s, int i)
+{
+  if (s.dist[i] < 0) return false;
+  if (s.space[i] != SpaceState::Free && s.space[i] != SpaceState::MaybeCollision) return false;
+  return bordersOpenUnknown(s, i);
+}
+
+/// Footprint model: the frontier cells grown, along known free cells that
+/// border open unknown, by up to `grow_cells` 8-steps (the rectangle reaches
+/// a door's middle only; the door's whole width is its frontier).
+void growFrontier(const Search& s, std::vector<uint8_t>& is_frontier, int grow_cells)
+{
+  std::vector<int> front, next;
+  for (std::size_t i = 0; i < is_frontier.size(); ++i)
+    if (is_frontier[i]) front.push_back(static_cast<int>(i));
+  for (int step = 0; step < grow_cells && !front.empty(); ++step)
+  {
+    next.clear();
+    for (const int i : front)
+    {
+      const int cx = i % s.nx, cy = i / s.nx;
+      for (int k = 0; k < 8; ++k)
+      {
+        const int x = cx + kDx[k], y = cy + kDy[k];
+        if (x < 0 || y < 0 || x >= s.nx || y >= s.ny) continue;
+        const int j = x + y * s.nx;
+        if (is_frontier[j] || !bordersOpenUnknown(s, j)) continue;
+        is_frontier[j] = 1;
+        next.push_back(j);
+      }
+    }
+    front.swap(next);
+  }
 }
 
 /// Fills size, distance, centroid and center of a frontier from its cells.
@@ -130,12 +158,58 @@ void describe(Frontier& f, const Search& s, const Grid<SpaceState>& g)
   }
 }
 
+/// Footprint model: a frontier group longer than this many cells is cut
+/// into pieces. The rectangle's band reaches along every wall that borders
+/// unknown space, so the groups run round whole rooms (the circle's
+/// collision band cuts them at the walls); the centre of such a group lies
+/// in the room's middle, where there is nothing to see (building 1: the
+/// nearest frontier baseline stopped after 0.55 m).
+constexpr int kMaxFootprintFrontierCells = 40;
+
+/// Cuts a group into pieces of kMaxFootprintFrontierCells cells in
+/// breadth-first order (8-connected, within the group) from its cell nearest
+/// to the robot: consecutive rings of the search, each piece compact.
+std::vector<std::vector<Cell>> splitFrontier(const Search& s, const std::vector<Cell>& cells)
+{
+  std::vector<int8_t> mark(s.dist.size(), 0);  // 1: in the group, 2: visited
+  std::size_t seed = 0;
+  for (std::size_t k = 0; k < cells.size(); ++k)
+  {
+    const int i = cells[k].cx + cells[k].cy * s.nx;
+    mark[i] = 1;
+    const double d = s.dist[i], best = s.dist[cells[seed].cx + cells[seed].cy * s.nx];
+    if (d >= 0 && (best < 0 || d < best)) seed = k;
+  }
+  std::vector<std::vector<Cell>> out;
+  // The group is 8-connected: one search visits it all.
+  std::vector<int> queue{cells[seed].cx + cells[seed].cy * s.nx};
+  mark[queue.front()] = 2;
+  for (std::size_t q = 0; q < queue.size(); ++q)
+  {
+    const int i = queue[q];
+    const int cx = i % s.nx, cy = i / s.nx;
+    if (q % kMaxFootprintFrontierCells == 0) out.emplace_back();
+    out.back().push_back({cx, cy});
+    for (int k = 0; k < 8; ++k)
+    {
+      const int x = cx + kDx[k], y = cy + kDy[k];
+      if (x < 0 || y < 0 || x >= s.nx || y >= s.ny) continue;
+      const int j = x + y * s.nx;
+      if (mark[j] != 1) continue;
+      mark[j] = 2;
+      queue.push_back(j);
+    }
+  }
+  return out;
+}
+
 /// Groups frontier cells 8-connected, in row-major order of their first cell.
 std::vector<Frontier> groupFrontiers(const Search& s, const Grid<SpaceState>& g)
 {
   const std::size_t n = s.dist.size();
   std::vector<uint8_t> is_frontier(n, 0), taken(n, 0);
   for (std::size_t i = 0; i < n; ++i) is_frontier[i] = isFrontierCell(s, static_cast<int>(i));
+  if (s.grow_cells > 0) growFrontier(s, is_frontier, s.grow_cells);
   std::vector<Frontier> out;
   std::vector<int> stack;
   for (std::size_t seed = 0; seed < n; ++seed)
@@ -160,10 +234,17 @@ std::vector<Frontier> groupFrontiers(const Search& s, const Grid<SpaceState>& g)
         stack.push_back(j);
       }
     }
-    if (s.footprint &&
-        std::none_of(f.cells.begin(), f.cells.end(),
-                     [&](const Cell& c) { return s.dist[c.cx + c.cy * s.nx] >= 0; }))
-      continue;  // no cell of it reached
+    if (s.grow_cells > 0 && static_cast<int>(f.cells.size()) > kMaxFootprintFrontierCells)
+    {
+      for (auto& piece : splitFrontier(s, f.cells))
+      {
+        Frontier part;
+        part.cells = std::move(piece);
+        describe(part, s, g);
+        out.push_back(std::move(part));
+      }
+      continue;
+    }
     describe(f, s, g);
     out.push_back(std::move(f));
   }
@@ -181,7 +262,7 @@ FrontierMap findFrontiers(const GroundGrid& g, const CollisionSpace& cs)
   s.space = grid.data().data();
   ASSERT_EQUAL_(cs.open_unknown.size(), grid.data().size());
   s.open_unknown = cs.open_unknown.data();
-  s.footprint = cs.footprint;
+  s.grow_cells = static_cast<int>(std::ceil(cs.frontier_grow_m / grid.getResolution() - 1e-9));
   s.dist.assign(grid.data().size(), -1.0);
   s.escape.assign(grid.data().size(), 0);
   runDijkstra(s, g.robot.cx + g.robot.cy * s.nx);

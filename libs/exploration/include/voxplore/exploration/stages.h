@@ -119,11 +119,11 @@ struct CollisionSpace
   /// unexplored space (CollisionParams: not beside an obstacle, not in a thin
   /// closed pocket); the sources of MaybeCollision and of frontiers.
   std::vector<uint8_t> open_unknown;
-  /// The states are the rectangle's (applyFootprint): a frontier is then
-  /// every known free cell bordering open unknown that is 8-connected, along
-  /// such cells, to one the search reached (the rectangle reaches a door's
-  /// middle only, the frontier is the whole door).
-  bool footprint = false;
+  /// The states are the rectangle's (applyFootprint): frontier cells are
+  /// grown by this, along known free cells bordering open unknown (the
+  /// rectangle reaches a door's middle only; the frontier is the whole
+  /// door). 0: the thesis' frontier cells only [m].
+  double frontier_grow_m = 0;
 };
 
 /// @brief thesis 4.5.2 with exact Euclidean distance transforms (no per-cell
