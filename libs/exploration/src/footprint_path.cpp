@@ -53,12 +53,7 @@ struct SE2Search
     return std::min(cs.clearance_occ_m.data()[cell], cs.clearance_unknown_m.data()[cell]);
   }
 
-  double factor(std::size_t cell) const
-  {
-    if (p.clearance_ref_m <= 0) return 1.0;
-    const double short_by = std::max(0.0, p.clearance_ref_m - clearance(cell));
-    return 1.0 + p.clearance_weight * short_by / p.clearance_ref_m;
-  }
+  double factor(std::size_t cell) const { return p.costFactor(clearance(cell)); }
 
   bool allowed(std::size_t cell, int bin) const { return (fs.allowed(cell) >> bin) & 1u; }
   bool turnable(std::size_t cell, int bin) const { return (fs.turnable(cell) >> bin) & 1u; }
@@ -149,34 +144,36 @@ struct SE2Search
     return cellCenter(cs.state, Cell{static_cast<int>(cell % nx), static_cast<int>(cell / nx)});
   }
 
-  /// Every sample (res/2 apart) of a-b lies in a cell that allows `bin`.
-  bool segmentAllowed(const Eigen::Vector2d& a, const Eigen::Vector2d& b, int bin) const
+  /// Does `pred` hold at the cell of every sample (res/2 apart) of a-b? False
+  /// when a sample lies off the grid.
+  template <typename Pred>
+  bool everySample(const Eigen::Vector2d& a, const Eigen::Vector2d& b, Pred pred) const
   {
     const int n = std::max(1, static_cast<int>(std::ceil((b - a).norm() / (0.5 * res))));
     for (int k = 0; k <= n; ++k)
     {
       Cell c;
       if (!cellOf(cs.state, a + (b - a) * (static_cast<double>(k) / n), c)) return false;
-      if (!allowed(static_cast<std::size_t>(c.cx) + static_cast<std::size_t>(c.cy) * nx, bin))
-        return false;
+      if (!pred(static_cast<std::size_t>(c.cx) + static_cast<std::size_t>(c.cy) * nx)) return false;
     }
     return true;
   }
 
-  /// Does the planner's circle not fit somewhere on a-b?
+  /// Every sample of a-b lies in a cell that allows `bin`.
+  bool segmentAllowed(const Eigen::Vector2d& a, const Eigen::Vector2d& b, int bin) const
+  {
+    return everySample(a, b, [&](std::size_t i) { return allowed(i, bin); });
+  }
+
+  /// Does the planner's circle not fit somewhere on a-b (or a-b leave the grid)?
   bool narrowSegment(const Eigen::Vector2d& a, const Eigen::Vector2d& b) const
   {
-    const int n = std::max(1, static_cast<int>(std::ceil((b - a).norm() / (0.5 * res))));
-    for (int k = 0; k <= n; ++k)
-    {
-      Cell c;
-      if (!cellOf(cs.state, a + (b - a) * (static_cast<double>(k) / n), c)) return true;
-      const std::size_t i = static_cast<std::size_t>(c.cx) + static_cast<std::size_t>(c.cy) * nx;
-      if (cs.clearance_occ_m.data()[i] <= cs.radius_m ||
-          cs.clearance_unknown_m.data()[i] <= cs.radius_m)
-        return true;
-    }
-    return false;
+    return !everySample(a, b,
+                        [&](std::size_t i)
+                        {
+                          return cs.clearance_occ_m.data()[i] > cs.radius_m &&
+                                 cs.clearance_unknown_m.data()[i] > cs.radius_m;
+                        });
   }
 };
 

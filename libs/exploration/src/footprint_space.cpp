@@ -98,12 +98,12 @@ std::vector<StampEntry> makeStamp(double a, double b, double margin, double res,
   return out;
 }
 
-/// ORs the stamp into `blocked` round every cell of `src` that has an
-/// 8-neighbour outside `src` (or on the grid border): a rectangle whose centre
-/// lies outside src and that overlaps a src square overlaps such a border square.
-void stampBorders(std::vector<YawMask>& blocked, const std::vector<uint8_t>& src, int nx, int ny,
-                  const std::vector<StampEntry>& stamp)
+/// The cells of `src` with an 8-neighbour outside `src` (or on the grid
+/// border): a rectangle whose centre lies outside src and that overlaps a
+/// src square overlaps such a border square.
+std::vector<int> borderCells(const std::vector<uint8_t>& src, int nx, int ny)
 {
+  std::vector<int> out;
   for (int y = 0; y < ny; ++y)
     for (int x = 0; x < nx; ++x)
     {
@@ -115,15 +115,26 @@ void stampBorders(std::vector<YawMask>& blocked, const std::vector<uint8_t>& src
         const int u = x + kDx[k], v = y + kDy[k];
         border = u < 0 || v < 0 || u >= nx || v >= ny || !src[static_cast<std::size_t>(v) * nx + u];
       }
-      if (!border) continue;
-      for (const StampEntry& e : stamp)
-      {
-        // An obstacle at offset d from the robot: the robot at (x, y) - d.
-        const int u = x - e.dx, v = y - e.dy;
-        if (u < 0 || v < 0 || u >= nx || v >= ny) continue;
-        blocked[static_cast<std::size_t>(v) * nx + u] |= e.bins;
-      }
+      if (border) out.push_back(static_cast<int>(i));
     }
+  return out;
+}
+
+/// ORs the stamp into `blocked` round every cell of `borders`.
+void stampAt(std::vector<YawMask>& blocked, const std::vector<int>& borders, int nx, int ny,
+             const std::vector<StampEntry>& stamp)
+{
+  for (const int i : borders)
+  {
+    const int x = i % nx, y = i / nx;
+    for (const StampEntry& e : stamp)
+    {
+      // An obstacle at offset d from the robot: the robot at (x, y) - d.
+      const int u = x - e.dx, v = y - e.dy;
+      if (u < 0 || v < 0 || u >= nx || v >= ny) continue;
+      blocked[static_cast<std::size_t>(v) * nx + u] |= e.bins;
+    }
+  }
 }
 
 template <typename T>
@@ -231,12 +242,13 @@ FootprintSpace computeFootprintSpace(
   std::vector<uint8_t> occ(n);
   const auto& ground = g.state.data();
   for (std::size_t i = 0; i < n; ++i) occ[i] = ground[i] == GroundState::Occupied;
-  std::vector<YawMask> blocked_occ(n, 0), blocked_turn(n, 0);
-  stampBorders(blocked_occ, occ, nx, ny, stamp);
-  stampBorders(blocked_turn, occ, nx, ny, stamp_turn);
-  std::vector<YawMask> blocked_unk(n, 0);
-  stampBorders(blocked_unk, cs.open_unknown, nx, ny, stamp);
-  stampBorders(blocked_turn, cs.open_unknown, nx, ny, stamp_turn);
+  const std::vector<int> occ_border = borderCells(occ, nx, ny);
+  const std::vector<int> unk_border = borderCells(cs.open_unknown, nx, ny);
+  std::vector<YawMask> blocked_occ(n, 0), blocked_unk(n, 0), blocked_turn(n, 0);
+  stampAt(blocked_occ, occ_border, nx, ny, stamp);
+  stampAt(blocked_turn, occ_border, nx, ny, stamp_turn);
+  stampAt(blocked_unk, unk_border, nx, ny, stamp);
+  stampAt(blocked_turn, unk_border, nx, ny, stamp_turn);
 
   const YawMask all = fs.allBins();
   std::vector<YawMask> clear_occ(n), clear(n), clear_turn(n);

@@ -62,13 +62,7 @@ struct AStar
     return state(to) == SpaceState::Free;
   }
 
-  /// Cost factor of a cell: 1 + weight * max(0, c_ref - c) / c_ref.
-  double factor(int i) const
-  {
-    if (p.clearance_ref_m <= 0) return 1.0;
-    const double short_by = std::max(0.0, p.clearance_ref_m - static_cast<double>(clearance[i]));
-    return 1.0 + p.clearance_weight * short_by / p.clearance_ref_m;
-  }
+  double factor(int i) const { return p.costFactor(clearance[i]); }
 
   /// Admissible heuristic: straight-line metres (every factor is >= 1).
   double heuristic(int i, int goal) const
@@ -195,6 +189,13 @@ std::vector<Eigen::Vector2d> splitSegments(const std::vector<Eigen::Vector2d>& p
   return out;
 }
 }  // namespace
+
+double PathParams::costFactor(double clearance_m) const
+{
+  if (clearance_ref_m <= 0) return 1.0;
+  const double short_by = std::max(0.0, clearance_ref_m - clearance_m);
+  return 1.0 + clearance_weight * short_by / clearance_ref_m;
+}
 
 void PathParams::loadFromConfigFile(const mrpt::config::CConfigFileBase& c, const std::string& s)
 {

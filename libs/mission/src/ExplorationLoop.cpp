@@ -225,18 +225,8 @@ bool ExplorationLoop::driveWaypoints(const exploration::PlanResult& plan)
     // [collision] model = footprint: where the planner's circle does not fit,
     // drive the rectangle in the planned yaw, not MRPT's circle.
     const bool narrow = i < plan.waypoint_narrow.size() && plan.waypoint_narrow[i];
-    auto r = narrow ? driver_->driveFootprint(wps[i], plan.waypoint_yaws[i])
-                    : driver_->driveTo(wps[i], final_yaw);
-    if (narrow && r.reached() && final_yaw)
-    {
-      const auto rot = driver_->rotateTo(*final_yaw);
-      // A turn the footprint guard holds at the reached target keeps the yaw it got to.
-      if (!rot.reached() && !rot.guard_held)
-      {
-        r.outcome = rot.outcome;
-        r.message += "; final turn: " + rot.message;
-      }
-    }
+    const auto r = narrow ? driver_->driveFootprint(wps[i], plan.waypoint_yaws[i], final_yaw)
+                          : driver_->driveTo(wps[i], final_yaw);
     status_.guard_scaled = driver_->guardScaledCommands();
     status_.guard_held = driver_->guardHeldCommands();
     scanAndIntegrate();

@@ -362,16 +362,19 @@ DriveResult StopAndScanDriver::driveTo(const Eigen::Vector2d& waypoint,
     if (esc.outcome == DriveOutcome::Error) res.outcome = DriveOutcome::Error;
   }
   res.goal_distance_m = distanceTo(res.final_pose, waypoint);
-  if (res.reached() && final_yaw_rad)
-  {
-    const DriveResult rot = rotateTo(*final_yaw_rad);
-    appendDrive(res, rot, "");
-    // The waypoint is reached; a turn the footprint cannot make there ends
-    // where the guard held it (the scan is taken in that yaw) instead of
-    // failing the whole drive.
-    if (!rot.guard_held) res.outcome = rot.outcome;
-  }
+  turnAtWaypoint(res, final_yaw_rad);
   return res;
+}
+
+void StopAndScanDriver::turnAtWaypoint(DriveResult& res, std::optional<double> final_yaw_rad)
+{
+  if (!res.reached() || !final_yaw_rad) return;
+  const DriveResult rot = rotateTo(*final_yaw_rad);
+  appendDrive(res, rot, "");
+  // The waypoint is reached; a turn the footprint cannot make there ends
+  // where the guard held it (the scan is taken in that yaw) instead of
+  // failing the whole drive.
+  if (!rot.guard_held) res.outcome = rot.outcome;
 }
 
 DriveResult StopAndScanDriver::rotateTo(double yaw_rad)

@@ -3,11 +3,9 @@
  * then translate (the base is holonomic) holding it. Our own code: MRPT's
  * CPTG_Holo_Blend models the robot as a circle. */
 #include <mrpt/core/format.h>
-#include <mrpt/maps/CSimplePointsMap.h>
 #include <mrpt/math/wrap2pi.h>
 #include <voxplore/navigation/StopAndScanDriver.h>
 
-#include <algorithm>
 #include <cmath>
 #include <vector>
 
@@ -19,7 +17,8 @@ namespace voxplore::navigation
 using mrpt::poses::CPose2D;
 using namespace detail;
 
-DriveResult StopAndScanDriver::driveFootprint(const Eigen::Vector2d& waypoint, double yaw_rad)
+DriveResult StopAndScanDriver::driveFootprint(const Eigen::Vector2d& waypoint, double yaw_rad,
+                                              std::optional<double> final_yaw_rad)
 {
   DriveResult res;
   bool turned = false;
@@ -34,60 +33,32 @@ DriveResult StopAndScanDriver::driveFootprint(const Eigen::Vector2d& waypoint, d
       return res;
     }
   }
-  DriveLog log(robot_, distanceTo(robot_.pose(), waypoint));
-  constexpr int kHysteresis = 3;  // steps in a row the waypoint pose must be seen not free
+  // The rectangle at the waypoint, in the yaw held, must be free of sensed
+  // points, kHysteresis steps in a row.
+  constexpr int kHysteresis = 3;
   int blocked_steps = 0;
   const double hl = 0.5 * params_.footprint_length_m, hw = 0.5 * params_.footprint_width_m;
-  mrpt::maps::CSimplePointsMap pts;
-  std::vector<Eigen::Vector2d> near;
-  Ending end;
-  while (!end)
+  const WayCheck rectangle_at_goal = [&](const std::vector<Eigen::Vector2d>& points, double tx,
+                                         double ty, const CPose2D& p) -> Ending
   {
-    const CPose2D p = robot_.pose();
-    const double d = distanceTo(p, waypoint);
-    if (d <= params_.goal_tolerance_m)
-    {
-      end = {{DriveOutcome::Reached, mrpt::format("reached within %.3f m", d)}};
-      break;
-    }
-    if (!robot_.obstacles(pts))
-    {
-      end = {{DriveOutcome::Error, "the robot's obstacle sensors failed"}};
-      break;
-    }
-    // The rectangle at the waypoint, in the yaw held, must be free of sensed points.
-    double tx, ty;  // the waypoint in the robot frame
-    p.inverseComposePoint(waypoint.x(), waypoint.y(), tx, ty);
     const double dyaw = mrpt::math::wrapToPi(yaw_rad - p.phi());
-    near.clear();
-    const auto& xs = pts.getPointsBufferRef_x();
-    const auto& ys = pts.getPointsBufferRef_y();
-    const auto& zs = pts.getPointsBufferRef_z();
-    for (std::size_t k = 0; k < xs.size(); k++)
-      if (zs[k] >= params_.min_obstacle_height_m && zs[k] <= params_.max_obstacle_height_m)
-        near.emplace_back(xs[k], ys[k]);
-    const double at_goal = rectangleClearance(near, hl, hw, CPose2D(tx, ty, dyaw));
+    const double at_goal = rectangleClearance(points, hl, hw, CPose2D(tx, ty, dyaw));
     blocked_steps = at_goal <= 0 ? blocked_steps + 1 : 0;
-    if (blocked_steps >= kHysteresis)
-    {
-      end = {{DriveOutcome::Blocked,
-              "a sensed obstacle point lies inside the footprint at the waypoint"}};
-      break;
-    }
-    const double v = std::min(params_.max_v_mps, params_.max_v_mps * d / 0.3);
-    const double w = std::clamp(params_.yaw_gain * dyaw, -params_.max_w, params_.max_w);
-    robot_.setVelocity(v * tx / d, v * ty / d, w);
-    robot_.step(params_.dt_s);
-    log.afterStep(robot_);
-    end = checkAfterStep(robot_, params_, log, waypoint);
-    if (!end) end = guardEnding();
+    if (blocked_steps < kHysteresis) return std::nullopt;
+    return {{DriveOutcome::Blocked,
+             "a sensed obstacle point lies inside the footprint at the waypoint"}};
+  };
+  const DriveResult tr = straightDrive(waypoint, yaw_rad, rectangle_at_goal);
+  if (turned)
+  {
+    appendDrive(res, tr, "");
+    res.outcome = tr.outcome;
+    res.guard_held = tr.guard_held;
   }
-  DriveResult tr = finishDrive(log, *end);
-  if (!turned) return tr;
-  appendDrive(res, tr, "");
-  res.outcome = tr.outcome;
-  res.guard_held = tr.guard_held;
-  res.goal_distance_m = tr.goal_distance_m;
+  else
+    res = tr;
+  res.goal_distance_m = distanceTo(res.final_pose, waypoint);
+  turnAtWaypoint(res, final_yaw_rad);
   return res;
 }
 

@@ -3,12 +3,14 @@
  * corridors, see StopAndScanDriver.h). */
 #include <mrpt/core/format.h>
 #include <mrpt/maps/CSimplePointsMap.h>
+#include <mrpt/math/wrap2pi.h>
 #include <voxplore/navigation/StopAndScanDriver.h>
 
 #include <algorithm>
 #include <cmath>
 #include <limits>
 #include <optional>
+#include <vector>
 
 #include "drive_log.h"
 
@@ -19,9 +21,32 @@ using namespace detail;
 
 DriveResult StopAndScanDriver::driveStraight(const Eigen::Vector2d& waypoint)
 {
-  DriveLog log(robot_, distanceTo(robot_.pose(), waypoint));
   const double r = params_.robotRadius();
+  // Is the straight segment (0,0)-(tx,ty) free for the robot's circle?
+  const WayCheck circle_way = [r](const std::vector<Eigen::Vector2d>& points, double tx, double ty,
+                                  const CPose2D&) -> Ending
+  {
+    const double d2 = tx * tx + ty * ty;
+    double closest = std::numeric_limits<double>::infinity();
+    for (const auto& q : points)
+    {
+      const double u = std::clamp((q.x() * tx + q.y() * ty) / d2, 0.0, 1.0);
+      closest = std::min(closest, std::hypot(q.x() - u * tx, q.y() - u * ty));
+    }
+    if (closest >= r) return std::nullopt;
+    return {{DriveOutcome::Blocked,
+             mrpt::format("an obstacle lies %.3f m from the straight way (robot radius %.3f m)",
+                          closest, r)}};
+  };
+  return straightDrive(waypoint, std::nullopt, circle_way);
+}
+
+DriveResult StopAndScanDriver::straightDrive(const Eigen::Vector2d& waypoint,
+                                             std::optional<double> hold_yaw, const WayCheck& way)
+{
+  DriveLog log(robot_, distanceTo(robot_.pose(), waypoint));
   mrpt::maps::CSimplePointsMap pts;
+  std::vector<Eigen::Vector2d> band;
   Ending end;
   while (!end)
   {
@@ -39,26 +64,15 @@ DriveResult StopAndScanDriver::driveStraight(const Eigen::Vector2d& waypoint)
     }
     double tx, ty;  // the waypoint in the robot frame
     p.inverseComposePoint(waypoint.x(), waypoint.y(), tx, ty);
-    // Is the straight segment (0,0)-(tx,ty) free for the robot's circle?
-    const auto& xs = pts.getPointsBufferRef_x();
-    const auto& ys = pts.getPointsBufferRef_y();
-    const auto& zs = pts.getPointsBufferRef_z();
-    double closest = std::numeric_limits<double>::infinity();
-    for (std::size_t k = 0; k < xs.size(); k++)
-    {
-      if (zs[k] < params_.min_obstacle_height_m || zs[k] > params_.max_obstacle_height_m) continue;
-      const double u = std::clamp((xs[k] * tx + ys[k] * ty) / (d * d), 0.0, 1.0);
-      closest = std::min(closest, std::hypot(xs[k] - u * tx, ys[k] - u * ty));
-    }
-    if (closest < r)
-    {
-      end = {{DriveOutcome::Blocked,
-              mrpt::format("an obstacle lies %.3f m from the straight way (robot radius %.3f m)",
-                           closest, r)}};
-      break;
-    }
+    bandPoints(pts, params_.min_obstacle_height_m, params_.max_obstacle_height_m, band);
+    end = way(band, tx, ty, p);
+    if (end) break;
     const double v = std::min(params_.max_v_mps, params_.max_v_mps * d / 0.3);
-    robot_.setVelocity(v * tx / d, v * ty / d, 0.0);
+    const double w =
+        hold_yaw ? std::clamp(params_.yaw_gain * mrpt::math::wrapToPi(*hold_yaw - p.phi()),
+                              -params_.max_w, params_.max_w)
+                 : 0.0;
+    robot_.setVelocity(v * tx / d, v * ty / d, w);
     robot_.step(params_.dt_s);
     log.afterStep(robot_);
     end = checkAfterStep(robot_, params_, log, waypoint);
@@ -73,6 +87,7 @@ DriveResult StopAndScanDriver::escape()
   const double r_clear = params_.robotRadius() + params_.escape_clearance_m;
   const int max_esc_steps = static_cast<int>(std::ceil(params_.escape_timeout_s / params_.dt_s));
   mrpt::maps::CSimplePointsMap pts;
+  std::vector<Eigen::Vector2d> band;
   std::optional<std::pair<DriveOutcome, std::string>> end;
   double nearest = std::numeric_limits<double>::infinity();
   for (int i = 0; !end; i++)
@@ -88,19 +103,16 @@ DriveResult StopAndScanDriver::escape()
       break;
     }
     // Repulsion of the points in the navigator's height band within r_clear.
-    const auto& xs = pts.getPointsBufferRef_x();
-    const auto& ys = pts.getPointsBufferRef_y();
-    const auto& zs = pts.getPointsBufferRef_z();
+    bandPoints(pts, params_.min_obstacle_height_m, params_.max_obstacle_height_m, band);
     double vx = 0, vy = 0;
     nearest = std::numeric_limits<double>::infinity();
-    for (std::size_t k = 0; k < xs.size(); k++)
+    for (const auto& q : band)
     {
-      if (zs[k] < params_.min_obstacle_height_m || zs[k] > params_.max_obstacle_height_m) continue;
-      const double d = std::hypot(xs[k], ys[k]);
+      const double d = q.norm();
       nearest = std::min(nearest, d);
       if (d >= r_clear || d < 1e-6) continue;
-      vx -= xs[k] / d * (r_clear - d);
-      vy -= ys[k] / d * (r_clear - d);
+      vx -= q.x() / d * (r_clear - d);
+      vy -= q.y() / d * (r_clear - d);
     }
     const double v = std::hypot(vx, vy);
     if (collisionsOf(robot_) > log.collisions0)

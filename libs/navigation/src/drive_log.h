@@ -2,6 +2,7 @@
 #pragma once
 
 #include <mrpt/core/format.h>
+#include <mrpt/maps/CSimplePointsMap.h>
 #include <mrpt/poses/CPose2D.h>
 #include <voxplore/navigation/StopAndScanDriver.h>
 
@@ -9,6 +10,7 @@
 #include <optional>
 #include <string>
 #include <utility>
+#include <vector>
 
 namespace voxplore::navigation::detail
 {
@@ -28,6 +30,18 @@ inline std::size_t collisionsOf(const RobotInterface& robot)
 inline double distanceTo(const CPose2D& p, const Eigen::Vector2d& goal)
 {
   return std::hypot(goal.x() - p.x(), goal.y() - p.y());
+}
+
+/// The sensed points in the height band [z_min_m, z_max_m] (the navigator's), as XY.
+inline void bandPoints(const mrpt::maps::CSimplePointsMap& pts, double z_min_m, double z_max_m,
+                       std::vector<Eigen::Vector2d>& out)
+{
+  out.clear();
+  const auto& xs = pts.getPointsBufferRef_x();
+  const auto& ys = pts.getPointsBufferRef_y();
+  const auto& zs = pts.getPointsBufferRef_z();
+  for (std::size_t k = 0; k < xs.size(); k++)
+    if (zs[k] >= z_min_m && zs[k] <= z_max_m) out.emplace_back(xs[k], ys[k]);
 }
 
 // Bookkeeping of one drive: path length, progress, collisions.

@@ -18,6 +18,9 @@ struct PathParams : public mrpt::config::CLoadableOptions
   double clearance_ref_m = 1.5;    ///< clearance beyond which no extra cost is paid [m]
   double shortcut_margin_m = 0.1;  ///< a shortcut may not pass closer to obstacles than the A* path's minimum clearance minus this [m]
   double max_segment_m = 1.0;      ///< waypoints at most this far apart (stop-and-scan, thesis 4.6) [m]
+  /// @brief A* cost per metre at a cell with this clearance [m]:
+  ///        1 + clearance_weight * max(0, clearance_ref - clearance) / clearance_ref.
+  double costFactor(double clearance_m) const;
   void loadFromConfigFile(const mrpt::config::CConfigFileBase& c, const std::string& s) override;
   void saveToConfigFile(mrpt::config::CConfigFileBase& c, const std::string& s) const override;
 };

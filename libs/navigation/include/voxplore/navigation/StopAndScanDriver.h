@@ -7,10 +7,12 @@
 
 #include <Eigen/Core>
 #include <cstddef>
+#include <functional>
 #include <memory>
 #include <optional>
 #include <string>
 #include <utility>
+#include <vector>
 
 namespace voxplore::navigation
 {
@@ -106,8 +108,11 @@ class StopAndScanDriver
   ///         inside the rectangle at the waypoint (3 steps in a row), the
   ///         guard held the robot for guard_hold_s, or no progress for
   ///         blocked_timeout_s; Timeout / Error as driveTo(); a turn that did
-  ///         not reach the yaw ends the drive with its outcome.
-  DriveResult driveFootprint(const Eigen::Vector2d& waypoint, double yaw_rad);
+  ///         not reach the yaw ends the drive with its outcome. With
+  ///         `final_yaw_rad`, a reached waypoint is followed by the turn to it
+  ///         as in driveTo().
+  DriveResult driveFootprint(const Eigen::Vector2d& waypoint, double yaw_rad,
+                             std::optional<double> final_yaw_rad = std::nullopt);
 
   /// @brief Recovery of a pinned robot (our own: MRPT's reactive navigator
   ///        stands still for ever once an obstacle point is at its circle):
@@ -134,6 +139,21 @@ class StopAndScanDriver
   bool guardHolding() const;
   /// Blocked when guardHolding().
   std::optional<std::pair<DriveOutcome, std::string>> guardEnding() const;
+  /// Why the straight way is not free, from the sensed points in the
+  /// navigator's height band and the waypoint (tx, ty), both in the frame of
+  /// the robot at `pose`; empty while it is free.
+  using WayCheck = std::function<std::optional<std::pair<DriveOutcome, std::string>>(
+      const std::vector<Eigen::Vector2d>& points, double tx, double ty,
+      const mrpt::poses::CPose2D& pose)>;
+  /// The straight holonomic drive of driveStraight() and driveFootprint():
+  /// at the waypoint, slowing down over the last 0.3 m, holding `hold_yaw`
+  /// when given (else not turning), until goal_tolerance_m, `way` says
+  /// stop, or checkAfterStep / the guard ends it.
+  DriveResult straightDrive(const Eigen::Vector2d& waypoint, std::optional<double> hold_yaw,
+                            const WayCheck& way);
+  /// The turn to `final_yaw_rad` at a reached waypoint (driveTo(),
+  /// driveFootprint()), appended to `res`.
+  void turnAtWaypoint(DriveResult& res, std::optional<double> final_yaw_rad);
   /// Stops the robot; the result of a drive that ended with `end`.
   DriveResult finishDrive(const detail::DriveLog& log,
                           const std::pair<DriveOutcome, std::string>& end);
