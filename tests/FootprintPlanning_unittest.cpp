@@ -104,12 +104,13 @@ struct Planned
   FootprintSpace fs;
 };
 
-Planned footprintSpaceOf(GroundGrid& g, const CPose2D& robot, const CollisionParams& p = omniRob())
+Planned footprintSpaceOf(GroundGrid& g, const CPose2D& robot, const CollisionParams& p = omniRob(),
+                         const SweptPath& swept = {})
 {
   cellOf(g.state, Eigen::Vector2d(robot.x(), robot.y()), g.robot);
   Planned out;
   out.cs = computeCollisionSpace(g, p);
-  out.fs = computeFootprintSpace(g, out.cs, p, robot);
+  out.fs = computeFootprintSpace(g, out.cs, p, robot, swept);
   applyFootprint(out.cs, out.fs);
   return out;
 }
@@ -289,6 +290,65 @@ TEST(FootprintSpace, TheRobotStartingWithUnknownRoundItEscapesToTheKnownFloor)
   const auto path = planFootprintPath(pl.cs, pl.fs, start, {-2.0, -1.0}, 0.0, PathParams{});
   ASSERT_TRUE(path);
   expectNeverClips(g, *path);
+}
+
+TEST(FootprintSpace, ARobotWithinTheMarginOfAWallEscapesWithoutClipping)
+{
+  // A turn at the last target left the long side 1 cm from the wall squares
+  // (the guard allows 3 cm from a sensed point; a square reaches up to a
+  // cell beyond the wall's surface): the start is blocked at the margin. It
+  // used to reach no state at all and end the run (b1, nbv).
+  GroundGrid g = makeGround(-3.0, 3.0, -2.0, 2.0, kRes, GroundState::Occupied);
+  paint(g, -2.8, 2.8, -1.5, 1.5, GroundState::Free);
+  const CPose2D start(0.0, 1.5 - 0.5 * kWidth - 0.01, 0.0);
+  ASSERT_FALSE(clipsAWall(g, start));
+  const Planned pl = footprintSpaceOf(g, start);
+  EXPECT_LT(pl.fs.escape_margin_m, pl.fs.margin_m);
+  EXPECT_TRUE(reachedAt(pl, 0.0, -0.5));
+  const auto path = planFootprintPath(pl.cs, pl.fs, start, {0.0, -0.5}, 0.0, PathParams{});
+  ASSERT_TRUE(path);
+  expectNeverClips(g, *path);
+}
+
+TEST(FootprintSpace, TheWayTheRobotCameInStaysOpen)
+{
+  // A 0.78 m door: the bare rectangle passes lengthwise with 3.4 cm a side,
+  // but not with the margin at every yaw of a bin, so the far room is not
+  // reached ...
+  GroundGrid g = twoRoomsWithADoor(0.78);
+  const CPose2D start(1.6, 0.0, 0.0);
+  const Planned closed = footprintSpaceOf(g, start);
+  ASSERT_FALSE(reachedAt(closed, -1.5, 0.0));
+  // ... unless the robot came in through it: where the body has been it can
+  // be again.
+  SweptPath swept;
+  for (double x = -1.5; x <= 1.6 + 1e-9; x += 0.05) swept.emplace_back(x, 0.0, 0.0);
+  const Planned open = footprintSpaceOf(g, start, omniRob(), swept);
+  EXPECT_TRUE(reachedAt(open, -1.5, 0.0));
+  const auto path = planFootprintPath(open.cs, open.fs, start, {-1.5, 0.0}, 0.0, PathParams{});
+  ASSERT_TRUE(path);
+  expectNeverClips(g, *path);
+  // A swept pose the map says would clip a wall (a pose estimate off by
+  // more than a cell) is not trusted: a 0.70 m door stays closed.
+  GroundGrid g70 = twoRoomsWithADoor(0.70);
+  const Planned refused = footprintSpaceOf(g70, start, omniRob(), swept);
+  EXPECT_FALSE(reachedAt(refused, -1.5, 0.0));
+}
+
+TEST(FootprintSpace, UnknownBesideTheSweptPathDoesNotCloseIt)
+{
+  // The cameras see no floor within about 1 m of the body: the corridor the
+  // robot drove down is lined with open unknown within the margin.
+  GroundGrid g = makeGround(-3.0, 3.0, -2.0, 2.0, kRes, GroundState::Occupied);
+  paint(g, -2.8, 2.8, -1.8, 1.8, GroundState::Free);
+  paint(g, -1.0, 1.0, -1.8, -0.38, GroundState::Unknown);
+  paint(g, -1.0, 1.0, 0.38, 1.8, GroundState::Unknown);
+  const CPose2D start(2.0, 0.0, 0.0);
+  ASSERT_FALSE(reachedAt(footprintSpaceOf(g, start), -2.0, 0.0));
+  SweptPath swept;
+  for (double x = -2.0; x <= 2.0 + 1e-9; x += 0.05) swept.emplace_back(x, 0.0, M_PI);
+  const Planned pl = footprintSpaceOf(g, start, omniRob(), swept);
+  EXPECT_TRUE(reachedAt(pl, -2.0, 0.0));
 }
 
 TEST(FootprintPlanner, TheFootprintModelExploresTheRoomBehindTheDoorTheCircleCannot)

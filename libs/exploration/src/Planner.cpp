@@ -27,6 +27,22 @@ const char* toString(DoneReason r)
   return "?";
 }
 
+const char* toString(SkipReason r)
+{
+  switch (r)
+  {
+    case SkipReason::NoGoal:
+      return "no reachable cell";
+    case SkipReason::NoSamples:
+      return "no sample space";
+    case SkipReason::NoGain:
+      return "no gain";
+    case SkipReason::NoPath:
+      return "no path";
+  }
+  return "?";
+}
+
 void PlannerParams::load(const mrpt::config::CConfigFileBase& cfg)
 {
   common::loadChecked(projection, cfg, "projection");
@@ -85,8 +101,8 @@ double yawTowards(const Eigen::Vector2d& from, const Eigen::Vector2d& to)
 }
 
 /// Tries one frontier: candidate poses (rated for NBV), then a path to the
-/// best candidate that has one. Fills r on success.
-bool tryFrontier(
+/// best candidate that has one. Fills r on success; else returns why not.
+std::optional<SkipReason> tryFrontier(
     const octomap::OcTree& V, const CPose2D& robot, const PlannerParams& p, std::size_t fi,
     uint64_t step, PlanResult& r)
 {
@@ -97,7 +113,7 @@ bool tryFrontier(
   if (p.strategy == Strategy::NearestFrontier)
   {
     const auto goal = nearestReachable(*r.frontiers, f.centroid);
-    if (!goal) return false;
+    if (!goal) return SkipReason::NoGoal;
     candidates.emplace_back(goal->x(), goal->y(), yawTowards(*goal, f.center));
   }
   else
@@ -108,12 +124,12 @@ bool tryFrontier(
     std::mt19937_64 rng(seq);
     r.samples = samplePoses(r.space->state, r.sample_space, f, p.sampling, rng);
     r.ms.sampling += 1e3 * tic.Tac();
-    if (r.samples.empty()) return false;
+    if (r.samples.empty()) return SkipReason::NoSamples;
     tic.Tic();
     r.ratings.clear();
     for (const auto& s : r.samples) r.ratings.push_back(rateScan(V, s, p.rating));
     r.ms.rating += 1e3 * tic.Tac();
-    if (!bestRated(r.ratings)) return false;  // nothing to learn around this frontier
+    if (!bestRated(r.ratings)) return SkipReason::NoGain;  // nothing to learn around this frontier
     // Candidates by decreasing gain (stable: ties keep the sampler's order).
     std::vector<std::size_t> order(r.samples.size());
     std::iota(order.begin(), order.end(), 0);
@@ -141,10 +157,26 @@ bool tryFrontier(
     }
     r.frontier = f;
     r.ms.path += 1e3 * tic.Tac();
-    return true;
+    return std::nullopt;
   }
   r.ms.path += 1e3 * tic.Tac();
-  return false;
+  return SkipReason::NoPath;
+}
+
+/// "n no path, m no gain" over the skipped frontiers.
+std::string skipSummary(const std::vector<SkipReason>& reasons)
+{
+  std::ostringstream os;
+  const char* sep = "";
+  for (const auto k :
+       {SkipReason::NoGoal, SkipReason::NoSamples, SkipReason::NoGain, SkipReason::NoPath})
+  {
+    const auto n = std::count(reasons.begin(), reasons.end(), k);
+    if (n == 0) continue;
+    os << sep << n << " " << toString(k);
+    sep = ", ";
+  }
+  return os.str();
 }
 }  // namespace
 
@@ -162,7 +194,7 @@ PlanResult plan(
   if (p.collision.model == CollisionParams::Model::Footprint)
   {
     auto fs = std::make_shared<FootprintSpace>(
-        computeFootprintSpace(*ground, *space, p.collision, robot));
+        computeFootprintSpace(*ground, *space, p.collision, robot, swept));
     applyFootprint(*space, *fs);
     r.footprint = fs;
   }
@@ -189,10 +221,15 @@ PlanResult plan(
       os << fm->frontiers.size() << " frontier(s), none longer than " << p.sampling.th_f2_m
          << " m and not blacklisted" << (r.skipped_frontiers.empty() ? "" : " left after skipping ")
          << (r.skipped_frontiers.empty() ? "" : std::to_string(r.skipped_frontiers.size()));
+      if (!r.skip_reasons.empty()) os << ": " << skipSummary(r.skip_reasons);
+      if (r.footprint && !r.footprint->reach.data()[r.footprint->robot.cx + r.footprint->robot.cy *
+                                                      r.footprint->reach.getSizeX()])
+        os << "; the robot's footprint reaches no state (blocked where it stands)";
       r.message = os.str();
       break;
     }
-    if (tryFrontier(V, robot, p, *fi, step, r))
+    const auto why = tryFrontier(V, robot, p, *fi, step, r);
+    if (!why)
     {
       std::ostringstream os;
       os << "frontier " << *fi << " (" << r.frontier->size_m << " m, " << r.frontier->distance_m
@@ -202,6 +239,7 @@ PlanResult plan(
       break;
     }
     r.skipped_frontiers.push_back(*fi);
+    r.skip_reasons.push_back(*why);
   }
   r.ms.total = 1e3 * total.Tac();
   return r;

@@ -220,7 +220,7 @@ YawMask FootprintSpace::turnClosure(YawMask seed, YawMask allowed) const
 
 FootprintSpace computeFootprintSpace(
     const GroundGrid& g, const CollisionSpace& cs, const CollisionParams& p,
-    const mrpt::poses::CPose2D& robot)
+    const mrpt::poses::CPose2D& robot, const SweptPath& swept)
 {
   ASSERTMSG_(p.yaw_bins >= 2 && p.yaw_bins <= 64, "computeFootprintSpace: yaw_bins must be in 2..64");
   ASSERTMSG_(p.footprint_length_m > 0 && p.footprint_width_m > 0,
@@ -260,6 +260,71 @@ FootprintSpace computeFootprintSpace(
     clear_turn[i] = clear[i] & ~blocked_turn[i];
   }
 
+  // Where the body has been it can be again: the states of the swept path
+  // (and of the 4-connected cells between consecutive poses) count as clear
+  // of unknown, and turnable. The cameras see no floor within about 1 m of
+  // their rim, so the unknown round a body standing in a door blocked the way
+  // it had come in (b1, nbv: the reach of a robot in a door was a few cells).
+  // Against occupied cells a swept state keeps the margin, or failing that
+  // the rectangle shrunk by one cell: the guard kept the body 3 cm from what
+  // it sensed there, while a door post's squares reach up to a cell into the
+  // opening and closed doors the robot had passed (b1, nbv: a room it had
+  // entered became a trap).
+  if (!swept.empty())
+  {
+    const auto shrunk =
+        makeStamp(0.5 * fs.length_m, 0.5 * fs.width_m, -res, res, fs.bins);
+    auto touchesOccupied = [&](const Cell& c, YawMask bin) {
+      for (const StampEntry& e : shrunk)
+      {
+        if (!(e.bins & bin)) continue;
+        const int u = c.cx + e.dx, v = c.cy + e.dy;
+        if (u < 0 || v < 0 || u >= nx || v >= ny) continue;
+        if (occ[static_cast<std::size_t>(v) * nx + u]) return true;
+      }
+      return false;
+    };
+    auto trust = [&](const Cell& c, YawMask bins) {
+      if (c.cx < 0 || c.cy < 0 || c.cx >= nx || c.cy >= ny) return;
+      const std::size_t i = static_cast<std::size_t>(c.cy) * nx + c.cx;
+      if (occ[i]) return;
+      for (YawMask rest = bins & ~clear_turn[i]; rest; rest &= rest - 1)
+      {
+        const YawMask bin = rest & (~rest + 1);
+        if ((blocked_occ[i] & bin) && touchesOccupied(c, bin)) continue;
+        clear_occ[i] |= bin;
+        clear[i] |= bin;
+        clear_turn[i] |= bin;
+      }
+    };
+    Cell prev{-1, -1};
+    YawMask prev_bin = 0;
+    for (const auto& q : swept)
+    {
+      Cell c;
+      if (!cellOf(like, Eigen::Vector2d(q.x(), q.y()), c)) continue;
+      const YawMask bin = YawMask(1) << fs.binOf(q.z());
+      if (prev.cx >= 0 && std::abs(c.cx - prev.cx) + std::abs(c.cy - prev.cy) <= 4)
+      {
+        // 4-connected walk from prev to c, x first.
+        Cell w = prev;
+        while (w.cx != c.cx)
+        {
+          w.cx += c.cx > w.cx ? 1 : -1;
+          trust(w, bin | prev_bin);
+        }
+        while (w.cy != c.cy)
+        {
+          w.cy += c.cy > w.cy ? 1 : -1;
+          trust(w, bin | prev_bin);
+        }
+      }
+      trust(c, bin | prev_bin);
+      prev = c;
+      prev_bin = bin;
+    }
+  }
+
   // Reachability from the robot's state. The robot stands where it is: its
   // own state is taken as clear of occupied cells (the map may put a wall a
   // cell too close); when it is not clear of open unknown it first escapes
@@ -278,10 +343,29 @@ FootprintSpace computeFootprintSpace(
   else
   {
     // The escape may cross unknown cells (the ring the cameras did not see),
-    // never bring the rectangle onto an occupied one.
+    // never bring the rectangle onto an occupied one. When the start itself
+    // is within the margin of an occupied square (a turn at the last target
+    // brought a corner within a cell of a wall: the squares are up to a cell
+    // larger than the wall), the escape keeps the margin the start has,
+    // shrunk in half-cell steps down to -2 cells: it moves through states at
+    // least as far from occupied cells as the start, never closer (b1, nbv:
+    // the start at 3.8 cm from a door post, blocked at 2 cm, reached no
+    // state and ended the run).
+    const std::vector<YawMask>* esc_blocked = &blocked_occ;
+    std::vector<YawMask> shrunk;
+    fs.escape_margin_m = fs.margin_m;
+    for (int k = 0; (esc_blocked->at(ri) & own) && k <= 4; ++k)
+    {
+      const double m = -0.5 * k * res;
+      const auto st = makeStamp(0.5 * fs.length_m, 0.5 * fs.width_m, m, res, fs.bins);
+      shrunk.assign(n, 0);
+      stampAt(shrunk, occ_border, nx, ny, st);
+      esc_blocked = &shrunk;
+      fs.escape_margin_m = m;
+    }
     std::vector<YawMask> esc_allowed(n);
     for (std::size_t i = 0; i < n; ++i)
-      esc_allowed[i] = ground[i] != GroundState::Occupied ? all & ~blocked_occ[i] : 0;
+      esc_allowed[i] = ground[i] != GroundState::Occupied ? all & ~(*esc_blocked)[i] : 0;
     esc_allowed[ri] |= own;
     escape[ri] = fs.turnClosure(own, esc_allowed[ri]);
     std::deque<int> q{static_cast<int>(ri)};

@@ -52,6 +52,16 @@ enum class DoneReason
 };
 const char* toString(DoneReason r);
 
+/// @brief Why a frontier tried by plan() gave no target.
+enum class SkipReason
+{
+  NoGoal,     ///< nearest: no reachable cell at all
+  NoSamples,  ///< nbv: the sample space (reachable cells seeing it) is empty
+  NoGain,     ///< nbv: no sample would see an unknown voxel
+  NoPath      ///< no candidate pose has a path
+};
+const char* toString(SkipReason r);
+
 /// @brief Milliseconds per stage of one planning step.
 struct PlanTimings
 {
@@ -75,6 +85,7 @@ struct PlanResult
   std::vector<ScanRating> ratings;     ///< one per sample (NextBestView)
   std::optional<Path> path;
   std::vector<std::size_t> skipped_frontiers;  ///< indices tried and skipped
+  std::vector<SkipReason> skip_reasons;        ///< why, one per skipped_frontiers entry
   PlanTimings ms;
   // Layers, kept for rendering and inspection.
   std::shared_ptr<const GroundGrid> ground;

@@ -41,13 +41,17 @@ struct FootprintSpace
   /// Bit k: the state (cell, k) is reached from the robot's state by moving
   /// to an 8-neighbour in the same bin (a diagonal move needs both cells
   /// beside it in that bin too) or turning in place to the next bin, through
-  /// `clear` states, after an escape from the start through `clear_occ`
-  /// states when the start is not clear (the cameras leave unknown round the
-  /// body at first).
+  /// `clear` states, after an escape from the start through states clear of
+  /// occupied cells by escape_margin_m when the start is not clear (the
+  /// cameras leave unknown round the body at first).
   Grid<YawMask> reach;
-  /// The escape: states the start reaches through clear_occ only, before the
-  /// first clear state (what planFootprintPath may enter besides `clear`).
+  /// The escape: states the start reaches through states clear of occupied
+  /// cells by escape_margin_m, before the first clear state (what
+  /// planFootprintPath may enter besides `clear`).
   Grid<YawMask> escape;
+  /// The margin the escape keeps from occupied cells [m]: margin_m, or less
+  /// (down to -2 cells) when the start state is within margin_m of one.
+  double escape_margin_m = 0;
   Cell robot;         ///< the robot's cell
   int robot_bin = 0;  ///< the bin of the robot's yaw
 
@@ -75,11 +79,16 @@ struct FootprintSpace
 ///        analytically against the rectangle (a precomputed mask per cell
 ///        offset, stamped from the border cells of the occupied and of the
 ///        open unknown space only).
+///        `swept` (the poses the robot's centre has held, map frame): their
+///        states, and those of the 4-connected cells between consecutive
+///        poses, count as clear of unknown and turnable where no occupied
+///        square lies within the margin (the body was there; the cameras
+///        never see the floor round it).
 /// @throws std::logic_error (ASSERTMSG_) on yaw_bins outside 2..64 or a
 ///         footprint <= 0.
 FootprintSpace computeFootprintSpace(
     const GroundGrid& g, const CollisionSpace& cs, const CollisionParams& p,
-    const mrpt::poses::CPose2D& robot);
+    const mrpt::poses::CPose2D& robot, const SweptPath& swept = {});
 
 /// @brief Footprint model: the states of cs become those of the rectangle.
 ///        Free: some bin reached (the robot can stand there); MaybeCollision:
