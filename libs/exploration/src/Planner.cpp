@@ -112,7 +112,27 @@ std::optional<SkipReason> tryFrontier(
   mrpt::system::CTicTac tic;
   if (p.strategy == Strategy::NearestFrontier)
   {
-    const auto goal = nearestReachable(*r.frontiers, f.centroid);
+    std::optional<Eigen::Vector2d> goal;
+    if (r.footprint && p.sampling.view_standoff_m > 0)
+    {
+      // A viewing stand-off (SamplingParams::view_standoff_m): the ring of
+      // reachable cells that see the frontier, the one nearest its centre.
+      SamplingParams ring = p.sampling;
+      ring.d_min_sample_m = p.sampling.view_standoff_m;
+      ring.d_max_sample_m = p.sampling.view_standoff_m + 1.0;
+      double best = std::numeric_limits<double>::infinity();
+      for (const Cell& c : sampleSpace(*r.ground, *r.space, *r.frontiers, f, ring))
+      {
+        const Eigen::Vector2d xy = cellCenter(r.space->state, c);
+        const double d = (xy - f.center).squaredNorm();
+        if (d < best)
+        {
+          best = d;
+          goal = xy;
+        }
+      }
+    }
+    if (!goal) goal = nearestReachable(*r.frontiers, f.centroid);
     if (!goal) return SkipReason::NoGoal;
     candidates.emplace_back(goal->x(), goal->y(), yawTowards(*goal, f.center));
   }

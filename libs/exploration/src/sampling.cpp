@@ -102,6 +102,7 @@ void SamplingParams::loadFromConfigFile(const mrpt::config::CConfigFileBase& c,
   MRPT_LOAD_CONFIG_VAR(max_samples, int, c, s);
   MRPT_LOAD_CONFIG_VAR(min_sample_dist_m, double, c, s);
   MRPT_LOAD_CONFIG_VAR(blacklist_radius_m, double, c, s);
+  MRPT_LOAD_CONFIG_VAR(view_standoff_m, double, c, s);
   using common::requireValid;
   requireValid(th_f2_m >= 0, c, s, "th_f2_m", "must be >= 0");
   requireValid(th_f1_m >= th_f2_m, c, s, "th_f1_m", "need th_f1_m >= th_f2_m");
@@ -111,6 +112,7 @@ void SamplingParams::loadFromConfigFile(const mrpt::config::CConfigFileBase& c,
   requireValid(max_samples >= 1, c, s, "max_samples", "must be >= 1");
   requireValid(min_sample_dist_m >= 0, c, s, "min_sample_dist_m", "must be >= 0");
   requireValid(blacklist_radius_m >= 0, c, s, "blacklist_radius_m", "must be >= 0");
+  requireValid(view_standoff_m >= 0, c, s, "view_standoff_m", "must be >= 0");
 }
 
 void SamplingParams::saveToConfigFile(mrpt::config::CConfigFileBase& c, const std::string& s) const
@@ -122,6 +124,7 @@ void SamplingParams::saveToConfigFile(mrpt::config::CConfigFileBase& c, const st
   MRPT_SAVE_CONFIG_VAR(max_samples, c, s);
   MRPT_SAVE_CONFIG_VAR(min_sample_dist_m, c, s);
   MRPT_SAVE_CONFIG_VAR(blacklist_radius_m, c, s);
+  MRPT_SAVE_CONFIG_VAR(view_standoff_m, c, s);
 }
 
 std::optional<std::size_t> chooseFrontier(const std::vector<Frontier>& frontiers,

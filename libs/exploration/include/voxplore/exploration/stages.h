@@ -170,6 +170,14 @@ struct SamplingParams : public mrpt::config::CLoadableOptions
   int max_samples = 15;         ///< pose samples per frontier
   double min_sample_dist_m = 0.5;  ///< samples at least this far apart [m]
   double blacklist_radius_m = 0.5; ///< a frontier whose centre is this close to a failed target is skipped [m]
+  /// [collision] model = footprint, nearest strategy: the target is the
+  /// reachable cell nearest to the frontier's centre among those this far
+  /// from every frontier cell (up to 1 m farther) that see one of them (the
+  /// nearest reachable cell when there is none). The rectangle may stand 2 cm
+  /// from open unknown, but the cameras see no floor within about 0.9 m of
+  /// their rim: a target at the frontier saw nothing new and was given up.
+  /// The circle keeps its own stand-off (r_coll). 0 = off [m].
+  double view_standoff_m = 1.5;
   void loadFromConfigFile(const mrpt::config::CConfigFileBase& c, const std::string& s) override;
   void saveToConfigFile(mrpt::config::CConfigFileBase& c, const std::string& s) const override;
 };
