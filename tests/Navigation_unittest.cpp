@@ -763,6 +763,34 @@ TEST(StopAndScanDriver, TheFootprintDriveStopsBeforeASeventyCentimetreDoor)
   expectStandsStill(rig);
 }
 
+TEST(StopAndScanDriver, AFootprintDriveStartingAtTheGuardsMarginBacksOffFirst)
+{
+  // The omniRob lengthwise in the 1.1 m corridor, its side 2.5 cm from the
+  // south wall's face (y = 1.45): closer than the guard's 3 cm, as a stop
+  // after a held approach leaves it. A 2.5 degree turn swings its rear
+  // corner 2.6 cm towards the wall: held at once ...
+  const mrpt::poses::CPose2D start(6.5, 1.45 + 0.356 + 0.025, 0.0);
+  const double yaw = mrpt::DEG2RAD(2.5);
+  {
+    SimRig held("omnirob", corridorWorld(), start, 0.0,
+                [](DriverParams& p) { p.footprint_backoff_m = 0; });
+    const auto r = held.driver->driveFootprint({7.3, 1.9}, yaw);
+    EXPECT_EQ(r.outcome, DriveOutcome::Blocked) << "control: without the back-off; " << r.message;
+    EXPECT_EQ(held.collisions(), 0u);
+  }
+  // ... unless the drive first backs the rectangle off to 3 + 3 cm.
+  SimRig rig("omnirob", corridorWorld(), start, 0.0);
+  const auto r = rig.driver->driveFootprint({7.3, 1.9}, yaw);
+  EXPECT_EQ(r.outcome, DriveOutcome::Reached) << r.message;
+  EXPECT_NE(r.message.find("back-off"), std::string::npos) << r.message;
+  EXPECT_EQ(rig.collisions(), 0u);
+  EXPECT_NEAR(rig.sim->robot().groundTruth().x(), 7.3, 0.06);
+  // Already clear: the back-off does nothing.
+  const auto again = rig.driver->backOffFootprint();
+  EXPECT_EQ(again.outcome, DriveOutcome::Reached);
+  EXPECT_EQ(again.steps, 0u);
+}
+
 // ------------------------------------------- navigation logs (issue 14)
 
 namespace

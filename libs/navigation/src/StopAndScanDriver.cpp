@@ -303,6 +303,8 @@ DriveResult StopAndScanDriver::driveTo(const Eigen::Vector2d& waypoint,
                                        std::optional<double> final_yaw_rad)
 {
   checkClocks(robot_);
+  const DriveResult pre = backOffFootprint();
+  if (pre.outcome == DriveOutcome::Error) return pre;
   auto& nav = impl_->nav;
   auto& adapter = impl_->adapter;
   if (nav.getCurrentState() == CAbstractNavigator::NAV_ERROR) nav.resetNavError();
@@ -363,6 +365,7 @@ DriveResult StopAndScanDriver::driveTo(const Eigen::Vector2d& waypoint,
   }
   res.goal_distance_m = distanceTo(res.final_pose, waypoint);
   turnAtWaypoint(res, final_yaw_rad);
+  prependDrive(pre, res);
   return res;
 }
 

@@ -20,6 +20,8 @@ using namespace detail;
 DriveResult StopAndScanDriver::driveFootprint(const Eigen::Vector2d& waypoint, double yaw_rad,
                                               std::optional<double> final_yaw_rad)
 {
+  const DriveResult pre = backOffFootprint();
+  if (pre.outcome == DriveOutcome::Error) return pre;
   DriveResult res;
   bool turned = false;
   if (std::abs(mrpt::math::wrapToPi(yaw_rad - robot_.pose().phi())) > params_.yaw_tolerance)
@@ -30,6 +32,7 @@ DriveResult StopAndScanDriver::driveFootprint(const Eigen::Vector2d& waypoint, d
     {
       res.goal_distance_m = distanceTo(res.final_pose, waypoint);
       res.message = "turn to the planned yaw: " + res.message;
+      prependDrive(pre, res);
       return res;
     }
   }
@@ -59,6 +62,7 @@ DriveResult StopAndScanDriver::driveFootprint(const Eigen::Vector2d& waypoint, d
     res = tr;
   res.goal_distance_m = distanceTo(res.final_pose, waypoint);
   turnAtWaypoint(res, final_yaw_rad);
+  prependDrive(pre, res);
   return res;
 }
 

@@ -12,6 +12,7 @@
 #include <optional>
 #include <vector>
 
+#include "FootprintGuard.h"
 #include "drive_log.h"
 
 namespace voxplore::navigation
@@ -130,6 +131,72 @@ DriveResult StopAndScanDriver::escape()
                           params_.escape_timeout_s)};
     if (end) break;
     robot_.setVelocity(params_.escape_speed_mps * vx / v, params_.escape_speed_mps * vy / v, 0.0);
+    robot_.step(params_.dt_s);
+    log.afterStep(robot_);
+  }
+  return finishDrive(log, *end);
+}
+
+DriveResult StopAndScanDriver::backOffFootprint()
+{
+  DriveLog log(robot_, 0.0);
+  const double hl = 0.5 * params_.footprint_length_m, hw = 0.5 * params_.footprint_width_m;
+  const double target = params_.guard_margin_m + params_.footprint_backoff_m;
+  const int max_steps = static_cast<int>(std::ceil(params_.escape_timeout_s / params_.dt_s));
+  mrpt::maps::CSimplePointsMap pts;
+  std::vector<Eigen::Vector2d> band;
+  Ending end;
+  for (int i = 0; !end; i++)
+  {
+    if (!params_.footprint_guard || params_.footprint_backoff_m <= 0)
+    {
+      end = {{DriveOutcome::Reached, "off"}};
+      break;
+    }
+    if (!robot_.obstacles(pts))
+    {
+      end = {{DriveOutcome::Error, "the robot's obstacle sensors failed"}};
+      break;
+    }
+    bandPoints(pts, params_.min_obstacle_height_m, params_.max_obstacle_height_m, band);
+    const double clearance = rectangleClearance(band, hl, hw, CPose2D());
+    // Each point pushes the rectangle away from it: along the vector from
+    // its nearest point of the rectangle to it, or, inside, out through the
+    // nearer side.
+    Eigen::Vector2d push(0, 0);
+    double weight = 0;
+    for (const auto& q : band)
+    {
+      const double ex = std::abs(q.x()) - hl, ey = std::abs(q.y()) - hw;
+      Eigen::Vector2d out(std::copysign(std::max(ex, 0.0), q.x()),
+                          std::copysign(std::max(ey, 0.0), q.y()));
+      double d = out.norm();
+      if (d >= target) continue;
+      if (d < 1e-9)
+      {
+        out = ex > ey ? Eigen::Vector2d(std::copysign(1.0, q.x()), 0.0)
+                      : Eigen::Vector2d(0.0, std::copysign(1.0, q.y()));
+        d = 0;
+      }
+      push -= out.normalized() * (target - d);
+      weight += target - d;
+    }
+    if (collisionsOf(robot_) > log.collisions0)
+      end = {{DriveOutcome::Error, "the robot reported a collision while backing off"}};
+    else if (clearance >= target || (i == 0 && clearance >= target - 0.5 * params_.footprint_backoff_m))
+      end = {{DriveOutcome::Reached, mrpt::format("clear, footprint clearance %.3f m", clearance)}};
+    else if (const auto held = guardEnding())
+      end = held;
+    else if (push.norm() < 0.2 * weight)
+      end = {{DriveOutcome::Blocked,
+              mrpt::format("pinched from both sides, footprint clearance %.3f m", clearance)}};
+    else if (i >= max_steps)
+      end = {{DriveOutcome::Blocked,
+              mrpt::format("footprint clearance still %.3f m after escape_timeout_s = %.1f s",
+                           clearance, params_.escape_timeout_s)}};
+    if (end) break;
+    const Eigen::Vector2d v = params_.escape_speed_mps * push.normalized();
+    robot_.setVelocity(v.x(), v.y(), 0.0);
     robot_.step(params_.dt_s);
     log.afterStep(robot_);
   }

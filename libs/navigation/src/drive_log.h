@@ -103,6 +103,21 @@ inline void appendDrive(DriveResult& r, const DriveResult& next, const std::stri
   r.distance_m += next.distance_m;
 }
 
+/// `pre` (a back-off before the drive) followed by `r`: r's outcome and
+/// goal distance, both drives' time, steps and path. Nothing when pre did
+/// not step.
+inline void prependDrive(const DriveResult& pre, DriveResult& r)
+{
+  if (pre.steps == 0) return;
+  DriveResult out = pre;
+  out.message = "back-off: " + pre.message;
+  appendDrive(out, r, "");
+  out.outcome = r.outcome;
+  out.guard_held = r.guard_held;
+  out.goal_distance_m = r.goal_distance_m;
+  r = out;
+}
+
 /// Collisions, progress, time and step limits after one RobotInterface::step().
 Ending checkAfterStep(const RobotInterface& robot, const DriverParams& params, DriveLog& log,
                       const Eigen::Vector2d& waypoint);

@@ -47,6 +47,7 @@ struct DriverParams : public mrpt::config::CLoadableOptions
   double guard_margin_m = 0.03;   ///< clearance the guard keeps between the footprint and sensed obstacles [m]
   double guard_horizon_s = 0.3;   ///< a command must keep the margin when held this long [s]
   double guard_hold_s = 1.0;      ///< a drive the guard holds still this long ends Blocked [s]
+  double footprint_backoff_m = 0.03;  ///< a drive starting within guard_margin_m + half this of a sensed point first backs the rectangle off to guard_margin_m + this (backOffFootprint) [m]; 0 = off
   // --- final rotation to the requested yaw (P-controller) ---
   double yaw_tolerance = mrpt::DEG2RAD(2.0);  ///< final yaw error accepted [rad] (ini: deg)
   double yaw_gain = 2.0;                      ///< turn rate per radian of yaw error [1/s]

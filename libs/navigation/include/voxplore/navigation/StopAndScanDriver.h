@@ -125,6 +125,21 @@ class StopAndScanDriver
   ///         could not get clear, Error on a sensor failure or collision.
   DriveResult escape();
 
+  /// @brief The footprint's back-off (our own, like escape(), for the
+  ///        rectangle): when the rectangle is within guard_margin_m +
+  ///        footprint_backoff_m / 2 of a sensed obstacle point, translates
+  ///        without turning at escape_speed_mps along the sum of the
+  ///        points' pushes (each away from its nearest point of the
+  ///        rectangle, weighted by how much nearer than guard_margin_m +
+  ///        footprint_backoff_m it is), until the clearance is that, the
+  ///        pushes cancel out, escape_timeout_s, or a collision. A stop left
+  ///        3 cm from a wall (the guard's margin) held every first command
+  ///        of the next drive (b3, omniRob, nbv: 9 replans in place). Does
+  ///        nothing with the guard or footprint_backoff_m off.
+  /// @return Reached when clear (also when already clear), Blocked when it
+  ///         could not get clear, Error on a sensor failure or collision.
+  DriveResult backOffFootprint();
+
   const DriverParams& params() const { return params_; }
 
   /// @brief Velocity commands the footprint guard ([navigation]
