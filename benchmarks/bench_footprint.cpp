@@ -121,10 +121,33 @@ void BM_PathFootprint(benchmark::State& st)
   st.counters["length_m"] = len;
 }
 
+void BM_FootprintCostFromStart(benchmark::State& st)
+{
+  const Fixture& f = fixture();
+  for (auto _ : st)
+  {
+    auto d = footprintCostFromStart(f.space, f.fs, f.params.path);
+    benchmark::DoNotOptimize(d);
+  }
+}
+
+// A further candidate goal of the same planning step: the heuristic is shared.
+void BM_PathFootprintSharedHeuristic(benchmark::State& st)
+{
+  const Fixture& f = fixture();
+  const auto h = footprintCostFromStart(f.space, f.fs, f.params.path);
+  std::size_t ok = 0;
+  for (auto _ : st)
+    ok += planFootprintPath(f.space, f.fs, f.robot, f.goal, 0.0, f.params.path, &h).has_value();
+  st.counters["found"] = static_cast<double>(ok) / static_cast<double>(st.iterations());
+}
+
 BENCHMARK(BM_CollisionSpaceCircle)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_FootprintSpace)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_PathCircle)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_PathFootprint)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_FootprintCostFromStart)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_PathFootprintSharedHeuristic)->Unit(benchmark::kMillisecond);
 }  // namespace
 
 int main(int argc, char** argv)

@@ -6,6 +6,7 @@
 #include <voxplore/exploration/footprint.h>
 
 #include <cmath>
+#include <limits>
 #include <random>
 #include <vector>
 
@@ -310,6 +311,26 @@ TEST(FootprintSpace, ARobotWithinTheMarginOfAWallEscapesWithoutClipping)
   expectNeverClips(g, *path);
 }
 
+TEST(FootprintSpace, OccupiedCellsUnderTheBodyDoNotTrapTheRobot)
+{
+  // A registration off by decimetres put a wall end under the body: the
+  // robot, standing there, contradicts those cells. Its escape ignores them
+  // and keeps the margin from every other wall.
+  GroundGrid real = makeGround(-3.0, 3.0, -2.0, 2.0, kRes, GroundState::Occupied);
+  paint(real, -2.8, 2.8, -1.5, 1.5, GroundState::Free);
+  GroundGrid g = real;
+  paint(g, 0.25, 0.35, -0.4, 0.1, GroundState::Occupied);  // under the body's front half
+  const CPose2D start(0.0, 0.0, 0.0);
+  const Planned pl = footprintSpaceOf(g, start);
+  EXPECT_TRUE(pl.fs.escape_ignored_occupied);
+  EXPECT_TRUE(reachedAt(pl, -2.0, 0.5));
+  const auto path = planFootprintPath(pl.cs, pl.fs, start, {-2.0, 0.5}, 0.0, PathParams{});
+  ASSERT_TRUE(path);
+  expectNeverClips(real, *path);
+  // A robot clear of every wall never ignores one.
+  EXPECT_FALSE(footprintSpaceOf(g, CPose2D(-1.5, 0.0, 0.0)).fs.escape_ignored_occupied);
+}
+
 TEST(FootprintSpace, TheWayTheRobotCameInStaysOpen)
 {
   // A 0.78 m door: the bare rectangle passes lengthwise with 3.4 cm a side,
@@ -365,6 +386,7 @@ TEST(FootprintPlanner, TheFootprintModelExploresTheRoomBehindTheDoorTheCircleCan
   p.projection.footprint_length_m = kLength;
   p.projection.footprint_width_m = kWidth;
   p.strategy = Strategy::NearestFrontier;
+  p.sampling.view_standoff_m = 0;  // the thesis' nearest target: at the frontier
   const CPose2D robot(-1.5, 0.0, M_PI / 2);
   const PlanResult r = plan(t, robot, p);
   ASSERT_TRUE(r.ok()) << r.message;
@@ -372,6 +394,23 @@ TEST(FootprintPlanner, TheFootprintModelExploresTheRoomBehindTheDoorTheCircleCan
   ASSERT_EQ(r.waypoint_yaws.size(), r.waypoints.size());
   ASSERT_EQ(r.waypoint_narrow.size(), r.waypoints.size());
   EXPECT_GT(r.target.x(), -0.7);  // at the door (its frontier), not short of it
+
+  // With the viewing stand-off the target sees the door's frontier from
+  // 1.5-2.5 m (the cameras see no floor nearer than ~0.9 m from their rim).
+  PlannerParams standoff = p;
+  standoff.sampling.view_standoff_m = 1.5;
+  const PlanResult rs = plan(t, robot, standoff);
+  ASSERT_TRUE(rs.ok()) << rs.message;
+  ASSERT_TRUE(rs.frontier);
+  double nearest = std::numeric_limits<double>::infinity();
+  for (const Cell& c : rs.frontier->cells)
+    nearest = std::min(nearest, (cellCenter(rs.space->state, c) -
+                                 Eigen::Vector2d(rs.target.x(), rs.target.y())).norm());
+  EXPECT_GE(nearest, 1.5 - kRes);
+  EXPECT_LE(nearest, 2.5 + kRes);
+  // Lengthwise to the door, either end first (the rectangle is planned
+  // modulo a half turn; the omniRob's cameras look both ways).
+  EXPECT_GT(std::abs(std::cos(rs.target.phi())), 0.5) << "lengthwise to the door";
 
   PlannerParams circle = p;
   circle.collision.model = CollisionParams::Model::Circle;

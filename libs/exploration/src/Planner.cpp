@@ -104,7 +104,7 @@ double yawTowards(const Eigen::Vector2d& from, const Eigen::Vector2d& to)
 /// best candidate that has one. Fills r on success; else returns why not.
 std::optional<SkipReason> tryFrontier(
     const octomap::OcTree& V, const CPose2D& robot, const PlannerParams& p, std::size_t fi,
-    uint64_t step, PlanResult& r)
+    uint64_t step, PlanResult& r, std::vector<float>& footprint_cost)
 {
   const Frontier& f = r.frontiers->frontiers[fi];
   const Eigen::Vector2d start(robot.x(), robot.y());
@@ -163,7 +163,11 @@ std::optional<SkipReason> tryFrontier(
   for (const auto& c : candidates)
   {
     const Eigen::Vector2d goal(c.x(), c.y());
-    auto path = r.footprint ? planFootprintPath(*r.space, *r.footprint, robot, goal, c.phi(), p.path)
+    // The SE(2) A*'s heuristic, once per step for every candidate.
+    if (r.footprint && footprint_cost.empty())
+      footprint_cost = footprintCostFromStart(*r.space, *r.footprint, p.path);
+    auto path = r.footprint ? planFootprintPath(*r.space, *r.footprint, robot, goal, c.phi(),
+                                                p.path, &footprint_cost)
                             : planPath(*r.space, start, goal, p.path);
     if (!path) continue;
     r.path = std::move(path);
@@ -231,6 +235,7 @@ PlanResult plan(
     r.done = DoneReason::NoFrontier;
     r.message = "no frontier: the reachable space is fully explored";
   }
+  std::vector<float> footprint_cost;  // footprintCostFromStart, when first needed
   while (r.done == DoneReason::None)
   {
     const auto fi = chooseFrontier(fm->frontiers, p.sampling, blacklist, r.skipped_frontiers);
@@ -248,7 +253,7 @@ PlanResult plan(
       r.message = os.str();
       break;
     }
-    const auto why = tryFrontier(V, robot, p, *fi, step, r);
+    const auto why = tryFrontier(V, robot, p, *fi, step, r, footprint_cost);
     if (!why)
     {
       std::ostringstream os;

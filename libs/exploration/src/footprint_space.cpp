@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <cmath>
 #include <deque>
+#include <map>
 #include <vector>
 
 namespace voxplore::exploration
@@ -120,19 +121,74 @@ std::vector<int> borderCells(const std::vector<uint8_t>& src, int nx, int ny)
   return out;
 }
 
-/// ORs the stamp into `blocked` round every cell of `borders`.
-void stampAt(std::vector<YawMask>& blocked, const std::vector<int>& borders, int nx, int ny,
-             const std::vector<StampEntry>& stamp)
+/// A stamp (or two, at two margins) as rows of robot cells: row `dy` covers
+/// obstacle offsets dx in [dx_max - len + 1, dx_max]; element k is the
+/// offset dx_max - k, so that, round an obstacle cell at x, element k blocks
+/// the robot cell x - dx_max + k (increasing: one vectorisable OR per row).
+struct StampRows
+{
+  struct Row
+  {
+    int dy = 0, dx_max = 0;
+    std::vector<YawMask> a, b;  ///< the first and second stamp's bins (b empty: one stamp)
+  };
+  std::vector<Row> rows;
+};
+
+/// Rows of `first`, and of `second` when given (then each row holds both).
+StampRows toRows(const std::vector<StampEntry>& first, const std::vector<StampEntry>* second)
+{
+  std::map<int, std::map<int, std::pair<YawMask, YawMask>>> by_row;
+  for (const StampEntry& e : first) by_row[e.dy][e.dx].first |= e.bins;
+  if (second)
+    for (const StampEntry& e : *second) by_row[e.dy][e.dx].second |= e.bins;
+  StampRows out;
+  for (const auto& [dy, cells] : by_row)
+  {
+    StampRows::Row r;
+    r.dy = dy;
+    const int lo = cells.begin()->first;
+    r.dx_max = cells.rbegin()->first;
+    const std::size_t len = static_cast<std::size_t>(r.dx_max - lo + 1);
+    r.a.assign(len, 0);
+    if (second) r.b.assign(len, 0);
+    for (const auto& [dx, m] : cells)
+    {
+      const std::size_t k = static_cast<std::size_t>(r.dx_max - dx);
+      r.a[k] = m.first;
+      if (second) r.b[k] = m.second;
+    }
+    out.rows.push_back(std::move(r));
+  }
+  return out;
+}
+
+/// ORs the stamp's rows into `a` (and their second masks into `b`, when the
+/// rows hold two) round every cell of `borders`.
+void stampAt(std::vector<YawMask>& a, std::vector<YawMask>* b, const std::vector<int>& borders,
+             int nx, int ny, const StampRows& stamp)
 {
   for (const int i : borders)
   {
     const int x = i % nx, y = i / nx;
-    for (const StampEntry& e : stamp)
+    for (const StampRows::Row& r : stamp.rows)
     {
       // An obstacle at offset d from the robot: the robot at (x, y) - d.
-      const int u = x - e.dx, v = y - e.dy;
-      if (u < 0 || v < 0 || u >= nx || v >= ny) continue;
-      blocked[static_cast<std::size_t>(v) * nx + u] |= e.bins;
+      const int v = y - r.dy;
+      if (v < 0 || v >= ny) continue;
+      const int u0 = x - r.dx_max, len = static_cast<int>(r.a.size());
+      const int k0 = std::max(0, -u0), k1 = std::min(len, nx - u0);
+      if (k0 >= k1) continue;
+      const std::size_t base = static_cast<std::size_t>(v) * nx + u0;
+      YawMask* out_a = a.data() + base;
+      const YawMask* in_a = r.a.data();
+      for (int k = k0; k < k1; ++k) out_a[k] |= in_a[k];
+      if (b && !r.b.empty())
+      {
+        YawMask* out_b = b->data() + base;
+        const YawMask* in_b = r.b.data();
+        for (int k = k0; k < k1; ++k) out_b[k] |= in_b[k];
+      }
     }
   }
 }
@@ -148,11 +204,10 @@ void sizeLike(Grid<T>& out, const Grid<SpaceState>& like, T value)
 /// `queue`) through the states of `allowed`, turning in place only between
 /// bins of `turn` (a subset of allowed); with `stop_at`, cells whose reached
 /// bins hold a bit of stop_at are not expanded further.
-void flood(const FootprintSpace& fs, std::vector<YawMask>& reach, const std::vector<YawMask>& allowed,
-           const std::vector<YawMask>& turn, std::deque<int>& queue, int nx, int ny,
-           const std::vector<YawMask>* stop_at = nullptr)
+void flood(const FootprintSpace& fs, YawMask* reach, const YawMask* allowed, const YawMask* turn,
+           std::deque<int>& queue, int nx, int ny, const YawMask* stop_at = nullptr)
 {
-  std::vector<uint8_t> queued(reach.size(), 0);
+  std::vector<uint8_t> queued(static_cast<std::size_t>(nx) * ny, 0);
   for (const int i : queue) queued[static_cast<std::size_t>(i)] = 1;
   while (!queue.empty())
   {
@@ -160,7 +215,7 @@ void flood(const FootprintSpace& fs, std::vector<YawMask>& reach, const std::vec
     queue.pop_front();
     queued[static_cast<std::size_t>(i)] = 0;
     const YawMask m = reach[static_cast<std::size_t>(i)];
-    if (stop_at && (m & (*stop_at)[static_cast<std::size_t>(i)])) continue;
+    if (stop_at && (m & stop_at[static_cast<std::size_t>(i)])) continue;
     const int x = i % nx, y = i / nx;
     for (int k = 0; k < 8; ++k)
     {
@@ -244,14 +299,21 @@ FootprintSpace computeFootprintSpace(
   for (std::size_t i = 0; i < n; ++i) occ[i] = ground[i] == GroundState::Occupied;
   const std::vector<int> occ_border = borderCells(occ, nx, ny);
   const std::vector<int> unk_border = borderCells(cs.open_unknown, nx, ny);
+  // One pass per border list stamps both margins.
+  const StampRows both = toRows(stamp, &stamp_turn);
   std::vector<YawMask> blocked_occ(n, 0), blocked_unk(n, 0), blocked_turn(n, 0);
-  stampAt(blocked_occ, occ_border, nx, ny, stamp);
-  stampAt(blocked_turn, occ_border, nx, ny, stamp_turn);
-  stampAt(blocked_unk, unk_border, nx, ny, stamp);
-  stampAt(blocked_turn, unk_border, nx, ny, stamp_turn);
+  stampAt(blocked_occ, &blocked_turn, occ_border, nx, ny, both);
+  stampAt(blocked_unk, &blocked_turn, unk_border, nx, ny, both);
 
   const YawMask all = fs.allBins();
-  std::vector<YawMask> clear_occ(n), clear(n), clear_turn(n);
+  // Written in place into the grids returned (no copies of 2 MB layers).
+  for (Grid<YawMask>* layer : {&fs.clear_occ, &fs.clear, &fs.clear_turn, &fs.reach, &fs.escape})
+    sizeLike(*layer, like, YawMask(0));
+  YawMask* clear_occ = &*fs.clear_occ.begin();
+  YawMask* clear = &*fs.clear.begin();
+  YawMask* clear_turn = &*fs.clear_turn.begin();
+  YawMask* reach = &*fs.reach.begin();
+  YawMask* escape = &*fs.escape.begin();
   for (std::size_t i = 0; i < n; ++i)
   {
     const bool free = ground[i] == GroundState::Free;
@@ -331,7 +393,6 @@ FootprintSpace computeFootprintSpace(
   // through clear_occ states to the nearest clear ones.
   fs.robot = g.robot;
   fs.robot_bin = fs.binOf(robot.phi());
-  std::vector<YawMask> reach(n, 0), escape(n, 0);
   const std::size_t ri = static_cast<std::size_t>(g.robot.cy) * nx + g.robot.cx;
   const YawMask own = YawMask(1) << fs.robot_bin;
   std::deque<int> queue;
@@ -359,17 +420,45 @@ FootprintSpace computeFootprintSpace(
       const double m = -0.5 * k * res;
       const auto st = makeStamp(0.5 * fs.length_m, 0.5 * fs.width_m, m, res, fs.bins);
       shrunk.assign(n, 0);
-      stampAt(shrunk, occ_border, nx, ny, st);
+      stampAt(shrunk, nullptr, occ_border, nx, ny, toRows(st, nullptr));
       esc_blocked = &shrunk;
       fs.escape_margin_m = m;
     }
+    // Still blocked: the map puts occupied cells under the body itself (a
+    // registration off by decimetres at the last stop, b2 nbv: 0.39 m into
+    // a door post). The robot stands there, so those cells are contradicted:
+    // the escape ignores the occupied cells under the rectangle at its pose
+    // (grown by a cell) and keeps the margin from the rest. The guard still
+    // keeps the real body off whatever the cameras sense.
+    std::vector<uint8_t> occ_rest;
+    if (esc_blocked->at(ri) & own)
+    {
+      occ_rest = occ;
+      const double c = std::cos(robot.phi()), sn = std::sin(robot.phi());
+      const double hl = 0.5 * fs.length_m + res, hw = 0.5 * fs.width_m + res;
+      const int reach_cells = static_cast<int>(std::ceil(std::hypot(hl, hw) / res)) + 1;
+      for (int v = std::max(0, g.robot.cy - reach_cells); v <= std::min(ny - 1, g.robot.cy + reach_cells); ++v)
+        for (int u = std::max(0, g.robot.cx - reach_cells); u <= std::min(nx - 1, g.robot.cx + reach_cells); ++u)
+        {
+          const Eigen::Vector2d q = cellCenter(like, Cell{u, v});
+          const double dx = q.x() - robot.x(), dy = q.y() - robot.y();
+          if (std::abs(c * dx + sn * dy) <= hl && std::abs(-sn * dx + c * dy) <= hw)
+            occ_rest[static_cast<std::size_t>(v) * nx + u] = 0;
+        }
+      shrunk.assign(n, 0);
+      stampAt(shrunk, nullptr, borderCells(occ_rest, nx, ny), nx, ny, toRows(stamp, nullptr));
+      esc_blocked = &shrunk;
+      fs.escape_margin_m = fs.margin_m;
+      fs.escape_ignored_occupied = true;
+    }
+    const std::vector<uint8_t>& esc_occ = occ_rest.empty() ? occ : occ_rest;
     std::vector<YawMask> esc_allowed(n);
     for (std::size_t i = 0; i < n; ++i)
-      esc_allowed[i] = ground[i] != GroundState::Occupied ? all & ~(*esc_blocked)[i] : 0;
+      esc_allowed[i] = !esc_occ[i] ? all & ~(*esc_blocked)[i] : 0;
     esc_allowed[ri] |= own;
     escape[ri] = fs.turnClosure(own, esc_allowed[ri]);
     std::deque<int> q{static_cast<int>(ri)};
-    flood(fs, escape, esc_allowed, esc_allowed, q, nx, ny, &clear);
+    flood(fs, escape, esc_allowed.data(), esc_allowed.data(), q, nx, ny, clear);
     // Seeds: the clear states the escape reached.
     for (std::size_t i = 0; i < n; ++i)
     {
@@ -385,16 +474,6 @@ FootprintSpace computeFootprintSpace(
   // The escape states are reached too (the robot passes through them).
   for (std::size_t i = 0; i < n; ++i) reach[i] |= escape[i];
 
-  sizeLike(fs.clear_occ, like, YawMask(0));
-  sizeLike(fs.clear, like, YawMask(0));
-  sizeLike(fs.clear_turn, like, YawMask(0));
-  std::copy(clear_turn.begin(), clear_turn.end(), fs.clear_turn.begin());
-  sizeLike(fs.reach, like, YawMask(0));
-  sizeLike(fs.escape, like, YawMask(0));
-  std::copy(clear_occ.begin(), clear_occ.end(), fs.clear_occ.begin());
-  std::copy(clear.begin(), clear.end(), fs.clear.begin());
-  std::copy(reach.begin(), reach.end(), fs.reach.begin());
-  std::copy(escape.begin(), escape.end(), fs.escape.begin());
   return fs;
 }
 

@@ -52,6 +52,10 @@ struct FootprintSpace
   /// The margin the escape keeps from occupied cells [m]: margin_m, or less
   /// (down to -2 cells) when the start state is within margin_m of one.
   double escape_margin_m = 0;
+  /// The start was blocked even 2 cells inside the margin (occupied cells
+  /// under the body: a pose or map error of decimetres): the escape ignored
+  /// the occupied cells under the rectangle at the robot's pose.
+  bool escape_ignored_occupied = false;
   Cell robot;         ///< the robot's cell
   int robot_bin = 0;  ///< the bin of the robot's yaw
 
@@ -111,8 +115,21 @@ void applyFootprint(CollisionSpace& cs, const FootprintSpace& fs);
 ///        final_yaw: `goal_yaw` when turning in place at the goal reaches its
 ///        bin, else the reachable bin's yaw nearest to it.
 /// @return empty when the goal cell is off the grid or not reached.
+/// @param cost_from_start footprintCostFromStart(cs, fs, p), shared by the
+///        goals of one planning step (computed here when null or when `start`
+///        is not in fs.robot's cell). The search runs from the goal back to
+///        the start, guided by it.
 std::optional<Path> planFootprintPath(
     const CollisionSpace& cs, const FootprintSpace& fs, const mrpt::poses::CPose2D& start,
-    const Eigen::Vector2d& goal, double goal_yaw, const PathParams& p);
+    const Eigen::Vector2d& goal, double goal_yaw, const PathParams& p,
+    const std::vector<float>* cost_from_start = nullptr);
+
+/// @brief Per cell (row-major over cs.state), a lower bound of the cost
+///        planFootprintPath pays from fs.robot's cell to it: a Dijkstra over the
+///        cells holding a reached or escape state, a step costing its length
+///        times PathParams::costFactor of the cell entered; +infinity where the
+///        robot cannot get. The SE(2) A*'s heuristic.
+std::vector<float> footprintCostFromStart(
+    const CollisionSpace& cs, const FootprintSpace& fs, const PathParams& p);
 
 }  // namespace voxplore::exploration
