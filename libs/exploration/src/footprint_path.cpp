@@ -9,6 +9,7 @@
 #include <functional>
 #include <limits>
 #include <queue>
+#include <tuple>
 #include <vector>
 
 namespace voxplore::exploration
@@ -101,7 +102,8 @@ struct SE2Search
   std::vector<std::size_t> run(std::size_t start_cell, int start_bin, std::size_t goal_cell,
                                const std::vector<float>& from_start)
   {
-    using Item = std::pair<double, std::size_t>;
+    // (f, -g, state): among equal f the deeper state first.
+    using Item = std::tuple<double, double, std::size_t>;
     std::priority_queue<Item, std::vector<Item>, std::greater<>> open;
     const std::size_t s0 = start_cell * bins + start_bin;
     const YawMask seeds = fs.allowed(goal_cell) & fs.reach.data()[goal_cell];
@@ -110,12 +112,12 @@ struct SE2Search
       if (!((seeds >> b) & 1u)) continue;
       const std::size_t t = goal_cell * bins + b;
       node(t) = Node{0.0f, 0x7f};  // the goal: no move
-      open.push({from_start[goal_cell], t});
+      open.push({p.footprint_heuristic_weight * from_start[goal_cell], 0.0, t});
     }
     bool found = false;
     while (!open.empty())
     {
-      const std::size_t u = open.top().second;
+      const std::size_t u = std::get<2>(open.top());
       open.pop();
       Node& nu = node(u);
       if (nu.how & kClosedBit) continue;
@@ -140,7 +142,7 @@ struct SE2Search
         if (ng >= ns.g) return;
         ns.g = static_cast<float>(ng);
         ns.how = move;
-        open.push({ng + h, s});
+        open.push({ng + p.footprint_heuristic_weight * h, -ng, s});
       };
       // Translations into u: from the cell one step back, in the same bin.
       const double into = res * factor(cell) * comfort(cell, bin);
@@ -277,10 +279,13 @@ std::vector<float> footprintCostFromStart(
   const auto& reach = fs.reach.data();
   const auto& escape = fs.escape.data();
   std::vector<float> step_cost(n, 0.0f);
+  const auto& clear_turn = fs.clear_turn.data();
   for (std::size_t i = 0; i < n; ++i)
     if (reach[i] | escape[i])
       step_cost[i] = static_cast<float>(
-          res * p.costFactor(std::min(cs.clearance_occ_m.data()[i], cs.clearance_unknown_m.data()[i])));
+          res * p.costFactor(std::min(cs.clearance_occ_m.data()[i], cs.clearance_unknown_m.data()[i])) *
+          // SE2Search::comfort: double where no reached bin keeps the turn margin.
+          ((clear_turn[i] & (reach[i] | escape[i])) ? 1.0 : 2.0));
   using Item = std::pair<float, int>;
   std::priority_queue<Item, std::vector<Item>, std::greater<>> open;
   const int r0 = fs.robot.cx + fs.robot.cy * nx;

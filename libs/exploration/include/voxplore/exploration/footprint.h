@@ -118,7 +118,8 @@ void applyFootprint(CollisionSpace& cs, const FootprintSpace& fs);
 /// @param cost_from_start footprintCostFromStart(cs, fs, p), shared by the
 ///        goals of one planning step (computed here when null or when `start`
 ///        is not in fs.robot's cell). The search runs from the goal back to
-///        the start, guided by it.
+///        the start, guided by it (weighted A*, p.footprint_heuristic_weight:
+///        the path costs at most that times the optimum).
 std::optional<Path> planFootprintPath(
     const CollisionSpace& cs, const FootprintSpace& fs, const mrpt::poses::CPose2D& start,
     const Eigen::Vector2d& goal, double goal_yaw, const PathParams& p,

@@ -18,6 +18,12 @@ struct PathParams : public mrpt::config::CLoadableOptions
   double clearance_ref_m = 1.5;    ///< clearance beyond which no extra cost is paid [m]
   double shortcut_margin_m = 0.1;  ///< a shortcut may not pass closer to obstacles than the A* path's minimum clearance minus this [m]
   double max_segment_m = 1.0;      ///< waypoints at most this far apart (stop-and-scan, thesis 4.6) [m]
+  /// [collision] model = footprint: the SE(2) A* is weighted A*, f = g + w h,
+  /// its path costing at most w times the optimum. Its heuristic ignores the
+  /// 32 bins, so with w = 1 it expanded every bin of every cell within the
+  /// optimum's slack (0.65 M states, 0.46 s for 61 m on a 1,000 m^2 map);
+  /// w = 1.1: 12 k states, 7 ms, path cost +0.1 %. 1 = optimal.
+  double footprint_heuristic_weight = 1.1;
   /// @brief A* cost per metre at a cell with this clearance [m]:
   ///        1 + clearance_weight * max(0, clearance_ref - clearance) / clearance_ref.
   double costFactor(double clearance_m) const;
