@@ -132,8 +132,18 @@ TEST(Planner, FrontierBehindTooNarrowGapIsNotPlanned)
   // a 1.2 m doorway: the frontier beyond is unreachable, planning is done.
   const auto V = room(0.6);
   PlannerParams p;  // omniRob r_coll 0.698
+  p.collision.model = CollisionParams::Model::Circle;  // the thesis
   const auto r = plan(V, CPose2D(-1.5, 0.0, 0.0), p);
   EXPECT_FALSE(r.ok()) << r.message;
+  // The default (model = auto) plans the omniRob's 1.54 m circle as its
+  // rectangle, which the 1.2 m doorway lets through.
+  EXPECT_TRUE(PlannerParams{}.collision.usesFootprint(V.getResolution()));
+  const auto fp = plan(V, CPose2D(-1.5, 0.0, 0.0), PlannerParams{});
+  EXPECT_TRUE(fp.ok()) << fp.message;
+  // A compact robot's circle stays the thesis' under auto.
+  CollisionParams compact;
+  compact.r_coll_m = 0.31;
+  EXPECT_FALSE(compact.usesFootprint(V.getResolution()));
 }
 
 TEST(Planner, ParamsRoundTripAndErrors)

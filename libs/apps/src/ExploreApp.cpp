@@ -3,6 +3,7 @@
 #include <mrpt/3rdparty/tclap/CmdLine.h>
 #include <mrpt/config/CConfigFileMemory.h>
 #include <mrpt/core/bits_math.h>
+#include <mrpt/core/format.h>
 #include <voxplore/apps/ExploreApp.h>
 #include <voxplore/apps/SimRobot.h>
 #include <voxplore/apps/app_common.h>
@@ -13,6 +14,7 @@
 #include <voxplore/sim/SimConfig.h>
 #include <voxplore/sim/world_loading.h>
 
+#include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <iostream>
@@ -208,6 +210,19 @@ ExploreSummary ExploreApp::execute(const ExploreOptions& opts)
     std::cout << "voxplore-explore: world '" << world.source_path << "', start " << world.start
               << "\n--- parameters in force ---\n" << used.getContent()
               << "---------------------------" << std::endl;
+  if (!opts.quiet)
+  {
+    const auto& col = cfg.planner.collision;
+    const double circle = 2.0 * (col.r_coll_m + std::sqrt(2.0) * cfg.slam.octomap.l_res_m);
+    std::cout << "voxplore-explore: planner model "
+              << (col.usesFootprint(cfg.slam.octomap.l_res_m) ? "footprint" : "circle")
+              << (col.model == exploration::CollisionParams::Model::Auto
+                      ? mrpt::format(" ([collision] model = auto: the planner circle is %.2f m, "
+                                     "auto_footprint_above_m %.2f m)",
+                                     circle, col.auto_footprint_above_m)
+                      : std::string())
+              << std::endl;
+  }
 
   sim::Simulator simulator(std::move(world), cfg.sim.robot, cfg.sim.cameras, cfg.sim.sim);
   ExploreRun run(simulator, cfg, opts.out_dir, opts.quiet);

@@ -143,7 +143,8 @@ void writeExploreSummary(const ExploreSummary& s, const std::string& path)
   std::ofstream f(path);
   if (!f) throw std::runtime_error("cannot write '" + path + "'");
   f << std::setprecision(9);
-  f << "{\n  \"termination_reason\": \"" << s.termination_reason << "\",\n  \"steps\": " << s.steps
+  f << "{\n  \"termination_reason\": \"" << s.termination_reason << "\",\n  \"planner_model\": \""
+    << s.planner_model << "\",\n  \"steps\": " << s.steps
     << ",\n  \"stops\": " << s.stops << ",\n  \"flagged_stops\": " << s.flagged_stops
     << ",\n  \"relocalized_stops\": " << s.relocalized_stops
     << ",\n  \"loop_closures\": " << s.loop_closures << ",\n  \"loop_edges\": " << s.loop_edges

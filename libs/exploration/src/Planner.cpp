@@ -215,7 +215,7 @@ PlanResult plan(
   r.ms.projection = 1e3 * tic.Tac();
   tic.Tic();
   auto space = std::make_shared<CollisionSpace>(computeCollisionSpace(*ground, p.collision));
-  if (p.collision.model == CollisionParams::Model::Footprint)
+  if (p.collision.usesFootprint(ground->state.getResolution()))
   {
     auto fs = std::make_shared<FootprintSpace>(
         computeFootprintSpace(*ground, *space, p.collision, robot, swept));

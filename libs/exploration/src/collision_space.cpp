@@ -122,6 +122,26 @@ Grid<float> clearanceGrid(const Grid<GroundState>& like, const std::vector<doubl
 }
 }  // namespace
 
+const char* CollisionParams::toString(Model m)
+{
+  switch (m)
+  {
+    case Model::Circle:
+      return "circle";
+    case Model::Footprint:
+      return "footprint";
+    case Model::Auto:
+      return "auto";
+  }
+  return "?";
+}
+
+bool CollisionParams::usesFootprint(double l_res_m) const
+{
+  if (model != Model::Auto) return model == Model::Footprint;
+  return 2.0 * (r_coll_m + std::sqrt(2.0) * l_res_m) > auto_footprint_above_m;
+}
+
 void CollisionParams::loadFromConfigFile(const mrpt::config::CConfigFileBase& c,
                                          const std::string& s)
 {
@@ -131,10 +151,13 @@ void CollisionParams::loadFromConfigFile(const mrpt::config::CConfigFileBase& c,
   common::requireValid(min_open_unknown_depth_m >= 0, c, s, "min_open_unknown_depth_m",
                        "must be >= 0");
   common::requireValid(r_coll_m >= 0, c, s, "r_coll_m", "must be >= 0");
-  const std::string m = c.read_string(s, "model", model == Model::Circle ? "circle" : "footprint");
-  common::requireValid(m == "circle" || m == "footprint", c, s, "model",
-                       "expected circle or footprint");
-  model = m == "circle" ? Model::Circle : Model::Footprint;
+  const std::string m = c.read_string(s, "model", toString(model));
+  common::requireValid(m == "circle" || m == "footprint" || m == "auto", c, s, "model",
+                       "expected auto, circle or footprint");
+  model = m == "circle" ? Model::Circle : m == "footprint" ? Model::Footprint : Model::Auto;
+  MRPT_LOAD_CONFIG_VAR(auto_footprint_above_m, double, c, s);
+  common::requireValid(auto_footprint_above_m >= 0, c, s, "auto_footprint_above_m",
+                       "must be >= 0");
   MRPT_LOAD_CONFIG_VAR(footprint_margin_m, double, c, s);
   MRPT_LOAD_CONFIG_VAR(footprint_turn_margin_m, double, c, s);
   MRPT_LOAD_CONFIG_VAR(yaw_bins, int, c, s);
@@ -149,7 +172,8 @@ void CollisionParams::saveToConfigFile(mrpt::config::CConfigFileBase& c, const s
   MRPT_SAVE_CONFIG_VAR(r_coll_m, c, s);
   MRPT_SAVE_CONFIG_VAR(ignore_unknown_beside_obstacles, c, s);
   MRPT_SAVE_CONFIG_VAR(min_open_unknown_depth_m, c, s);
-  c.write(s, "model", model == Model::Circle ? "circle" : "footprint");
+  c.write(s, "model", toString(model));
+  MRPT_SAVE_CONFIG_VAR(auto_footprint_above_m, c, s);
   MRPT_SAVE_CONFIG_VAR(footprint_margin_m, c, s);
   MRPT_SAVE_CONFIG_VAR(footprint_turn_margin_m, c, s);
   MRPT_SAVE_CONFIG_VAR(yaw_bins, c, s);

@@ -54,6 +54,7 @@ struct ExploreOptions
 struct ExploreSummary
 {
   std::string termination_reason;  ///< planner's done reason, "max_steps", "max_sim_time" or "interrupted" (SIGINT / SIGTERM)
+  std::string planner_model;  ///< the collision model planned with: "circle" or "footprint" ([collision] model, auto resolved)
   std::size_t steps = 0;           ///< planning steps
   std::size_t stops = 0;           ///< scan stops (SlamIcp calls)
   std::size_t flagged_stops = 0;   ///< stops whose ICP was rejected (pose from odometry, kept out of the maps)

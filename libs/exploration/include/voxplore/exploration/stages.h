@@ -91,13 +91,28 @@ struct CollisionParams : public mrpt::config::CLoadableOptions
   double min_open_unknown_depth_m = 0.10;
   /// The robot model the planner plans for (ini key "model"): Circle is the
   /// thesis (4.5.2: a disc of r_coll_m, so no passage narrower than about
-  /// 2 r_coll); Footprint plans in (x, y, yaw) with the rectangle (footprint.h).
+  /// 2 r_coll); Footprint plans in (x, y, yaw) with the rectangle (footprint.h);
+  /// Auto is Footprint when the planner's circle is wider than
+  /// auto_footprint_above_m (usesFootprint), else Circle.
   enum class Model
   {
     Circle,
-    Footprint
+    Footprint,
+    Auto
   };
-  Model model = Model::Circle;
+  Model model = Model::Auto;
+  /// Model::Auto: plan with the footprint when the planner circle's diameter
+  /// 2 (r_coll + sqrt(2) l_res) exceeds this [m]. An office door is 0.8-1.0
+  /// m wide: a wider circle closes the building's rooms to the robot (the
+  /// omniRob's 1.54 m circle: 0.02-0.94 coverage of 10 generated buildings,
+  /// its footprint 0.75-0.97, BENCHMARKS.md), a narrower one passes them
+  /// (the compact robot's 0.76 m circle keeps the thesis' model, its
+  /// footprint is not measured on the campaign yet).
+  double auto_footprint_above_m = 1.0;
+  /// @brief Does the planner plan with the footprint on a map of resolution
+  ///        l_res_m? (Footprint: yes; Circle: no; Auto: see model.)
+  bool usesFootprint(double l_res_m) const;
+  static const char* toString(Model m);
   /// The rectangle (length along the robot's +X, width) [m]; not ini keys,
   /// set from the robot profile like r_coll_m.
   double footprint_length_m = 1.200, footprint_width_m = 0.712;
