@@ -46,9 +46,10 @@ struct StampEntry
 /// against the rectangle grown by margin + that support: exact on the faces,
 /// conservative only round the corners. The blocked yaws of a point at
 /// (rho, alpha) are theta = alpha -+ phi with acos(a'/rho) <= phi <= asin(b'/rho).
-std::vector<StampEntry> makeStamp(double a, double b, double margin, double res, int bins)
+std::vector<StampEntry> makeStamp(double a, double b, double margin, double res, int bins,
+                                  double square_share)
 {
-  const double h = 0.5 * res, delta = kPi / bins;
+  const double h = 0.5 * res * square_share, delta = kPi / bins;
   std::vector<double> ak(bins), bk(bins);
   double reach = 0;
   for (int k = 0; k < bins; ++k)
@@ -291,9 +292,10 @@ FootprintSpace computeFootprintSpace(
   const double res = like.getResolution();
 
   fs.turn_margin_m = std::max(p.footprint_turn_margin_m, p.footprint_margin_m);
-  const auto stamp = makeStamp(0.5 * fs.length_m, 0.5 * fs.width_m, fs.margin_m, res, fs.bins);
+  const double share = p.footprint_square_share;
+  const auto stamp = makeStamp(0.5 * fs.length_m, 0.5 * fs.width_m, fs.margin_m, res, fs.bins, share);
   const auto stamp_turn =
-      makeStamp(0.5 * fs.length_m, 0.5 * fs.width_m, fs.turn_margin_m, res, fs.bins);
+      makeStamp(0.5 * fs.length_m, 0.5 * fs.width_m, fs.turn_margin_m, res, fs.bins, share);
   std::vector<uint8_t> occ(n);
   const auto& ground = g.state.data();
   for (std::size_t i = 0; i < n; ++i) occ[i] = ground[i] == GroundState::Occupied;
@@ -335,7 +337,7 @@ FootprintSpace computeFootprintSpace(
   if (!swept.empty())
   {
     const auto shrunk =
-        makeStamp(0.5 * fs.length_m, 0.5 * fs.width_m, -res, res, fs.bins);
+        makeStamp(0.5 * fs.length_m, 0.5 * fs.width_m, -res, res, fs.bins, share);
     auto touchesOccupied = [&](const Cell& c, YawMask bin) {
       for (const StampEntry& e : shrunk)
       {
@@ -418,7 +420,7 @@ FootprintSpace computeFootprintSpace(
     for (int k = 0; (esc_blocked->at(ri) & own) && k <= 4; ++k)
     {
       const double m = -0.5 * k * res;
-      const auto st = makeStamp(0.5 * fs.length_m, 0.5 * fs.width_m, m, res, fs.bins);
+      const auto st = makeStamp(0.5 * fs.length_m, 0.5 * fs.width_m, m, res, fs.bins, share);
       shrunk.assign(n, 0);
       stampAt(shrunk, nullptr, occ_border, nx, ny, toRows(st, nullptr));
       esc_blocked = &shrunk;

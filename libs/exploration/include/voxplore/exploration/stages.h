@@ -119,6 +119,13 @@ struct CollisionParams : public mrpt::config::CLoadableOptions
   double footprint_margin_m = 0.02;  ///< Footprint: kept from every occupied / open unknown cell at the cell centres [m]
   double footprint_turn_margin_m = 0.05;  ///< Footprint: ... while turning in place (and preferred) [m]
   int yaw_bins = 32;                 ///< Footprint: yaw bins over [0, 180) deg, 2..64
+  /// Footprint: an occupied (or open unknown) cell counts as a square of this
+  /// share of its side round its centre. 1: the whole cell, an exact bound of
+  /// the surface in it (up to a cell wider than the surface: a 0.85 m door
+  /// maps to 0.80 m and closes to the rectangle plus margins); below 1 the
+  /// surface is assumed in the cell's middle, and the footprint guard's
+  /// margin round the sensed points is what keeps the body off it.
+  double footprint_square_share = 1.0;
   void loadFromConfigFile(const mrpt::config::CConfigFileBase& c, const std::string& s) override;
   void saveToConfigFile(mrpt::config::CConfigFileBase& c, const std::string& s) const override;
 };
