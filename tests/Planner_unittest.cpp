@@ -179,3 +179,24 @@ TEST(Planner, RendersThePlan)
   EXPECT_GT(std::filesystem::file_size(png), 1000u);
   EXPECT_THROW(renderPlan(r, robot, "/nonexistent_dir/plan.png"), std::runtime_error);
 }
+
+TEST(Planner, AllFrontiersSkippedSaysWhy)
+{
+  // The doorway's frontier with a sample ring farther than the room reaches:
+  // no sample space, so the frontier is skipped and planning ends saying so.
+  const auto V = doorRoom();
+  PlannerParams p = params();
+  p.sampling.d_min_sample_m = 9.0;
+  p.sampling.d_max_sample_m = 10.0;
+  const auto r = plan(V, CPose2D(-1.5, 0.0, 0.0), p);
+  ASSERT_FALSE(r.ok());
+  EXPECT_EQ(r.done, DoneReason::AllSkipped) << r.message;
+  ASSERT_EQ(r.skip_reasons.size(), r.skipped_frontiers.size());
+  ASSERT_FALSE(r.skip_reasons.empty());
+  EXPECT_EQ(r.skip_reasons.front(), SkipReason::NoSamples);
+  EXPECT_NE(r.message.find("1 no sample space"), std::string::npos) << r.message;
+  // The same map planned normally skips nothing.
+  const auto ok = plan(V, CPose2D(-1.5, 0.0, 0.0), params());
+  ASSERT_TRUE(ok.ok()) << ok.message;
+  EXPECT_TRUE(ok.skip_reasons.empty());
+}
