@@ -14,7 +14,6 @@
 #include <voxplore/sim/SimConfig.h>
 #include <voxplore/sim/world_loading.h>
 
-#include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <iostream>
@@ -213,13 +212,12 @@ ExploreSummary ExploreApp::execute(const ExploreOptions& opts)
   if (!opts.quiet)
   {
     const auto& col = cfg.planner.collision;
-    const double circle = 2.0 * (col.r_coll_m + std::sqrt(2.0) * cfg.slam.octomap.l_res_m);
-    std::cout << "voxplore-explore: planner model "
-              << (col.usesFootprint(cfg.slam.octomap.l_res_m) ? "footprint" : "circle")
+    const double l_res = cfg.slam.octomap.l_res_m;
+    std::cout << "voxplore-explore: planner model " << col.toString(col.modelInForce(l_res))
               << (col.model == exploration::CollisionParams::Model::Auto
                       ? mrpt::format(" ([collision] model = auto: the planner circle is %.2f m, "
                                      "auto_footprint_above_m %.2f m)",
-                                     circle, col.auto_footprint_above_m)
+                                     col.plannerCircleDiameter(l_res), col.auto_footprint_above_m)
                       : std::string())
               << std::endl;
   }

@@ -98,8 +98,8 @@ void ExploreRun::computeGroundTruthFloor(const Eigen::AlignedBox2d* region)
 ExploreSummary ExploreRun::execute()
 {
   openOutputs();
-  s_.planner_model =
-      cfg_.planner.collision.usesFootprint(cfg_.slam.octomap.l_res_m) ? "footprint" : "circle";
+  const auto& col = cfg_.planner.collision;
+  s_.planner_model = col.toString(col.modelInForce(cfg_.slam.octomap.l_res_m));
   try
   {
     const auto& status = loop_->run();

@@ -136,10 +136,15 @@ const char* CollisionParams::toString(Model m)
   return "?";
 }
 
-bool CollisionParams::usesFootprint(double l_res_m) const
+double CollisionParams::plannerCircleDiameter(double l_res_m) const
 {
-  if (model != Model::Auto) return model == Model::Footprint;
-  return 2.0 * (r_coll_m + std::sqrt(2.0) * l_res_m) > auto_footprint_above_m;
+  return 2.0 * (r_coll_m + std::sqrt(2.0) * l_res_m);
+}
+
+CollisionParams::Model CollisionParams::modelInForce(double l_res_m) const
+{
+  if (model != Model::Auto) return model;
+  return plannerCircleDiameter(l_res_m) > auto_footprint_above_m ? Model::Footprint : Model::Circle;
 }
 
 void CollisionParams::loadFromConfigFile(const mrpt::config::CConfigFileBase& c,

@@ -72,7 +72,7 @@ struct SE2Search
 
   double clearance(std::size_t cell) const
   {
-    return std::min(cs.clearance_occ_m.data()[cell], cs.clearance_unknown_m.data()[cell]);
+    return cs.clearance(cell);
   }
 
   double factor(std::size_t cell) const { return p.costFactor(clearance(cell)); }
@@ -217,8 +217,7 @@ struct SE2Search
     return !everySample(a, b,
                         [&](std::size_t i)
                         {
-                          return cs.clearance_occ_m.data()[i] > cs.radius_m &&
-                                 cs.clearance_unknown_m.data()[i] > cs.radius_m;
+                          return cs.clearance(i) > cs.radius_m;
                         });
   }
 };
@@ -265,11 +264,14 @@ double nearestRepresentative(double y, double ref)
 }
 }  // namespace
 
-std::vector<float> footprintCostFromStart(
-    const CollisionSpace& cs, const FootprintSpace& fs, const PathParams& p)
+namespace
 {
-  // Dijkstra over the cells holding a reached or escape state, from the
-  // robot's cell; a step costs its length times the clearance factor of the
+/// footprintCostFromStart from the cell `start` (not necessarily fs.robot's).
+std::vector<float> costFromCell(const CollisionSpace& cs, const FootprintSpace& fs,
+                                const PathParams& p, const Cell& start)
+{
+  // Dijkstra over the cells holding a reached or escape state, from
+  // `start`; a step costs its length times the clearance factor of the
   // cell entered (what the SE(2) translation into it costs at least; turns
   // cost more than nothing). Diagonals skip the corner test: a relaxation.
   const int nx = static_cast<int>(cs.state.getSizeX()), ny = static_cast<int>(cs.state.getSizeY());
@@ -283,13 +285,13 @@ std::vector<float> footprintCostFromStart(
   for (std::size_t i = 0; i < n; ++i)
     if (reach[i] | escape[i])
       step_cost[i] = static_cast<float>(
-          res * p.costFactor(std::min(cs.clearance_occ_m.data()[i], cs.clearance_unknown_m.data()[i])) *
+          res * p.costFactor(cs.clearance(i)) *
           // SE2Search::comfort: double where no reached bin keeps the turn margin.
           ((clear_turn[i] & (reach[i] | escape[i])) ? 1.0 : 2.0));
   using Item = std::pair<float, int>;
   std::priority_queue<Item, std::vector<Item>, std::greater<>> open;
-  const int r0 = fs.robot.cx + fs.robot.cy * nx;
-  if (fs.robot.cx < 0 || fs.robot.cy < 0 || fs.robot.cx >= nx || fs.robot.cy >= ny) return d;
+  const int r0 = start.cx + start.cy * nx;
+  if (start.cx < 0 || start.cy < 0 || start.cx >= nx || start.cy >= ny) return d;
   d[static_cast<std::size_t>(r0)] = 0;
   open.push({0.0f, r0});
   while (!open.empty())
@@ -316,6 +318,13 @@ std::vector<float> footprintCostFromStart(
     if (std::isfinite(v)) v *= 0.9999f;
   return d;
 }
+}  // namespace
+
+std::vector<float> footprintCostFromStart(
+    const CollisionSpace& cs, const FootprintSpace& fs, const PathParams& p)
+{
+  return costFromCell(cs, fs, p, fs.robot);
+}
 
 std::optional<Path> planFootprintPath(
     const CollisionSpace& cs, const FootprintSpace& fs, const mrpt::poses::CPose2D& start,
@@ -340,9 +349,7 @@ std::optional<Path> planFootprintPath(
   if (!fits)
   {
     // The bound is from fs.robot: for another start, Dijkstra from there.
-    FootprintSpace from = fs;
-    from.robot = sc;
-    own = footprintCostFromStart(cs, from, p);
+    own = costFromCell(cs, fs, p, sc);
   }
   const std::vector<std::size_t> states =
       search.run(s_cell, s_bin, t_cell, fits ? *cost_from_start : own);

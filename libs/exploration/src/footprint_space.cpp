@@ -4,195 +4,22 @@
 #include <mrpt/math/wrap2pi.h>
 #include <voxplore/exploration/footprint.h>
 
+#include "footprint_stamp.h"
+
 #include <algorithm>
 #include <cmath>
 #include <deque>
-#include <map>
 #include <vector>
 
 namespace voxplore::exploration
 {
+using namespace detail;
+
 namespace
 {
 constexpr double kPi = 3.14159265358979323846;
 constexpr int kDx[8] = {1, -1, 0, 0, 1, 1, -1, -1};
 constexpr int kDy[8] = {0, 0, 1, -1, 1, -1, 1, -1};
-
-/// Do [lo1, hi1] and [lo2, hi2] (lengths < pi) overlap modulo pi?
-bool overlapModPi(double lo1, double hi1, double lo2, double hi2)
-{
-  const double shift = std::floor((lo1 - lo2) / kPi) * kPi;
-  for (int j = -1; j <= 2; ++j)
-  {
-    const double a = lo2 + shift + j * kPi, b = hi2 + shift + j * kPi;
-    if (a <= hi1 && b >= lo1) return true;
-  }
-  return false;
-}
-
-/// One entry of the stamp: the bins an obstacle cell at offset (dx, dy)
-/// cells from the robot's cell blocks.
-struct StampEntry
-{
-  int dx, dy;
-  YawMask bins;
-};
-
-/// The bins for which an obstacle square (side res) centred at offset
-/// (dx, dy) * res from the robot centre touches the rectangle (half sides a,
-/// b) grown by margin, at some yaw of the bin. For the bin's yaws the square
-/// is bounded, along each of the rectangle's axes, by its support
-/// h (|cos| + |sin|) at the bin's worst yaw, so the test is the centre point
-/// against the rectangle grown by margin + that support: exact on the faces,
-/// conservative only round the corners. The blocked yaws of a point at
-/// (rho, alpha) are theta = alpha -+ phi with acos(a'/rho) <= phi <= asin(b'/rho).
-std::vector<StampEntry> makeStamp(double a, double b, double margin, double res, int bins,
-                                  double square_share)
-{
-  const double h = 0.5 * res * square_share, delta = kPi / bins;
-  std::vector<double> ak(bins), bk(bins);
-  double reach = 0;
-  for (int k = 0; k < bins; ++k)
-  {
-    const double lo = k * delta - 0.5 * delta, hi = k * delta + 0.5 * delta;
-    // max of |cos| + |sin| over [lo, hi]: sqrt(2) when a diagonal lies inside.
-    double s = 0;
-    for (int i = 0; i <= 16; ++i)
-    {
-      const double t = lo + (hi - lo) * i / 16.0;
-      s = std::max(s, std::abs(std::cos(t)) + std::abs(std::sin(t)));
-    }
-    for (int j = -2; j <= 4; ++j)
-    {
-      const double diag = kPi / 4 + j * kPi / 2;
-      if (diag >= lo && diag <= hi) s = std::sqrt(2.0);
-    }
-    ak[k] = a + margin + h * s;
-    bk[k] = b + margin + h * s;
-    reach = std::max(reach, std::hypot(ak[k], bk[k]));
-  }
-  const int n = static_cast<int>(std::ceil(reach / res));
-  std::vector<StampEntry> out;
-  for (int dy = -n; dy <= n; ++dy)
-    for (int dx = -n; dx <= n; ++dx)
-    {
-      const double rho = res * std::hypot(dx, dy), alpha = std::atan2(dy, dx);
-      YawMask m = 0;
-      for (int k = 0; k < bins; ++k)
-      {
-        bool blocked;
-        if (rho <= bk[k] && rho <= ak[k])
-          blocked = true;
-        else if (rho * rho > ak[k] * ak[k] + bk[k] * bk[k])
-          blocked = false;
-        else
-        {
-          const double phi1 = rho > ak[k] ? std::acos(ak[k] / rho) : 0.0;
-          const double phi2 = rho > bk[k] ? std::asin(bk[k] / rho) : 0.5 * kPi;
-          const double lo = k * delta - 0.5 * delta, hi = k * delta + 0.5 * delta;
-          blocked = phi1 <= phi2 && (overlapModPi(lo, hi, alpha - phi2, alpha - phi1) ||
-                                     overlapModPi(lo, hi, alpha + phi1, alpha + phi2));
-        }
-        if (blocked) m |= YawMask(1) << k;
-      }
-      if (m) out.push_back({dx, dy, m});
-    }
-  return out;
-}
-
-/// The cells of `src` with an 8-neighbour outside `src` (or on the grid
-/// border): a rectangle whose centre lies outside src and that overlaps a
-/// src square overlaps such a border square.
-std::vector<int> borderCells(const std::vector<uint8_t>& src, int nx, int ny)
-{
-  std::vector<int> out;
-  for (int y = 0; y < ny; ++y)
-    for (int x = 0; x < nx; ++x)
-    {
-      const std::size_t i = static_cast<std::size_t>(y) * nx + x;
-      if (!src[i]) continue;
-      bool border = false;
-      for (int k = 0; k < 8 && !border; ++k)
-      {
-        const int u = x + kDx[k], v = y + kDy[k];
-        border = u < 0 || v < 0 || u >= nx || v >= ny || !src[static_cast<std::size_t>(v) * nx + u];
-      }
-      if (border) out.push_back(static_cast<int>(i));
-    }
-  return out;
-}
-
-/// A stamp (or two, at two margins) as rows of robot cells: row `dy` covers
-/// obstacle offsets dx in [dx_max - len + 1, dx_max]; element k is the
-/// offset dx_max - k, so that, round an obstacle cell at x, element k blocks
-/// the robot cell x - dx_max + k (increasing: one vectorisable OR per row).
-struct StampRows
-{
-  struct Row
-  {
-    int dy = 0, dx_max = 0;
-    std::vector<YawMask> a, b;  ///< the first and second stamp's bins (b empty: one stamp)
-  };
-  std::vector<Row> rows;
-};
-
-/// Rows of `first`, and of `second` when given (then each row holds both).
-StampRows toRows(const std::vector<StampEntry>& first, const std::vector<StampEntry>* second)
-{
-  std::map<int, std::map<int, std::pair<YawMask, YawMask>>> by_row;
-  for (const StampEntry& e : first) by_row[e.dy][e.dx].first |= e.bins;
-  if (second)
-    for (const StampEntry& e : *second) by_row[e.dy][e.dx].second |= e.bins;
-  StampRows out;
-  for (const auto& [dy, cells] : by_row)
-  {
-    StampRows::Row r;
-    r.dy = dy;
-    const int lo = cells.begin()->first;
-    r.dx_max = cells.rbegin()->first;
-    const std::size_t len = static_cast<std::size_t>(r.dx_max - lo + 1);
-    r.a.assign(len, 0);
-    if (second) r.b.assign(len, 0);
-    for (const auto& [dx, m] : cells)
-    {
-      const std::size_t k = static_cast<std::size_t>(r.dx_max - dx);
-      r.a[k] = m.first;
-      if (second) r.b[k] = m.second;
-    }
-    out.rows.push_back(std::move(r));
-  }
-  return out;
-}
-
-/// ORs the stamp's rows into `a` (and their second masks into `b`, when the
-/// rows hold two) round every cell of `borders`.
-void stampAt(std::vector<YawMask>& a, std::vector<YawMask>* b, const std::vector<int>& borders,
-             int nx, int ny, const StampRows& stamp)
-{
-  for (const int i : borders)
-  {
-    const int x = i % nx, y = i / nx;
-    for (const StampRows::Row& r : stamp.rows)
-    {
-      // An obstacle at offset d from the robot: the robot at (x, y) - d.
-      const int v = y - r.dy;
-      if (v < 0 || v >= ny) continue;
-      const int u0 = x - r.dx_max, len = static_cast<int>(r.a.size());
-      const int k0 = std::max(0, -u0), k1 = std::min(len, nx - u0);
-      if (k0 >= k1) continue;
-      const std::size_t base = static_cast<std::size_t>(v) * nx + u0;
-      YawMask* out_a = a.data() + base;
-      const YawMask* in_a = r.a.data();
-      for (int k = k0; k < k1; ++k) out_a[k] |= in_a[k];
-      if (b && !r.b.empty())
-      {
-        YawMask* out_b = b->data() + base;
-        const YawMask* in_b = r.b.data();
-        for (int k = k0; k < k1; ++k) out_b[k] |= in_b[k];
-      }
-    }
-  }
-}
 
 template <typename T>
 void sizeLike(Grid<T>& out, const Grid<SpaceState>& like, T value)
@@ -338,16 +165,6 @@ FootprintSpace computeFootprintSpace(
   {
     const auto shrunk =
         makeStamp(0.5 * fs.length_m, 0.5 * fs.width_m, -res, res, fs.bins, share);
-    auto touchesOccupied = [&](const Cell& c, YawMask bin) {
-      for (const StampEntry& e : shrunk)
-      {
-        if (!(e.bins & bin)) continue;
-        const int u = c.cx + e.dx, v = c.cy + e.dy;
-        if (u < 0 || v < 0 || u >= nx || v >= ny) continue;
-        if (occ[static_cast<std::size_t>(v) * nx + u]) return true;
-      }
-      return false;
-    };
     auto trust = [&](const Cell& c, YawMask bins) {
       if (c.cx < 0 || c.cy < 0 || c.cx >= nx || c.cy >= ny) return;
       const std::size_t i = static_cast<std::size_t>(c.cy) * nx + c.cx;
@@ -355,7 +172,7 @@ FootprintSpace computeFootprintSpace(
       for (YawMask rest = bins & ~clear_turn[i]; rest; rest &= rest - 1)
       {
         const YawMask bin = rest & (~rest + 1);
-        if ((blocked_occ[i] & bin) && touchesOccupied(c, bin)) continue;
+        if ((blocked_occ[i] & bin) && stampBlocks(shrunk, occ, nx, ny, c.cx, c.cy, bin)) continue;
         clear_occ[i] |= bin;
         clear[i] |= bin;
         clear_turn[i] |= bin;
@@ -414,17 +231,25 @@ FootprintSpace computeFootprintSpace(
     // least as far from occupied cells as the start, never closer (b1, nbv:
     // the start at 3.8 cm from a door post, blocked at 2 cm, reached no
     // state and ended the run).
+    // The start alone is tested at each margin; the grid is stamped once,
+    // at the margin found.
     const std::vector<YawMask>* esc_blocked = &blocked_occ;
     std::vector<YawMask> shrunk;
     fs.escape_margin_m = fs.margin_m;
-    for (int k = 0; (esc_blocked->at(ri) & own) && k <= 4; ++k)
+    bool blocked = (blocked_occ[ri] & own) != 0;
+    std::vector<StampEntry> esc_stamp;
+    for (int k = 0; blocked && k <= 4; ++k)
     {
-      const double m = -0.5 * k * res;
-      const auto st = makeStamp(0.5 * fs.length_m, 0.5 * fs.width_m, m, res, fs.bins, share);
+      fs.escape_margin_m = -0.5 * k * res;
+      esc_stamp =
+          makeStamp(0.5 * fs.length_m, 0.5 * fs.width_m, fs.escape_margin_m, res, fs.bins, share);
+      blocked = stampBlocks(esc_stamp, occ, nx, ny, g.robot.cx, g.robot.cy, own) != 0;
+    }
+    if (!esc_stamp.empty() && !blocked)
+    {
       shrunk.assign(n, 0);
-      stampAt(shrunk, nullptr, occ_border, nx, ny, toRows(st, nullptr));
+      stampAt(shrunk, nullptr, occ_border, nx, ny, toRows(esc_stamp, nullptr));
       esc_blocked = &shrunk;
-      fs.escape_margin_m = m;
     }
     // Still blocked: the map puts occupied cells under the body itself (a
     // registration off by decimetres at the last stop, b2 nbv: 0.39 m into
@@ -433,7 +258,7 @@ FootprintSpace computeFootprintSpace(
     // (grown by a cell) and keeps the margin from the rest. The guard still
     // keeps the real body off whatever the cameras sense.
     std::vector<uint8_t> occ_rest;
-    if (esc_blocked->at(ri) & own)
+    if (blocked)
     {
       occ_rest = occ;
       const double c = std::cos(robot.phi()), sn = std::sin(robot.phi());

@@ -33,7 +33,6 @@ struct AStar
   const PathParams& p;
   int nx = 0, ny = 0;
   double res = 0;
-  std::vector<float> clearance;  ///< min(clearance_occ, clearance_unknown) [m]
   std::vector<double> g;         ///< cost from the start; < 0: unseen
   std::vector<int> parent;
   std::vector<uint8_t> escape, closed;
@@ -45,9 +44,6 @@ struct AStar
     ny = static_cast<int>(cs.state.getSizeY());
     res = cs.state.getResolution();
     const std::size_t n = cs.state.data().size();
-    clearance.resize(n);
-    for (std::size_t i = 0; i < n; ++i)
-      clearance[i] = std::min(cs.clearance_occ_m.data()[i], cs.clearance_unknown_m.data()[i]);
     g.assign(n, -1.0);
     parent.assign(n, -1);
     escape.assign(n, 0);
@@ -62,7 +58,10 @@ struct AStar
     return state(to) == SpaceState::Free;
   }
 
-  double factor(int i) const { return p.costFactor(clearance[i]); }
+  /// min(clearance_occ, clearance_unknown) at cell i [m].
+  float clearance(int i) const { return cs.clearance(static_cast<std::size_t>(i)); }
+
+  double factor(int i) const { return p.costFactor(clearance(i)); }
 
   /// Admissible heuristic: straight-line metres (every factor is >= 1).
   double heuristic(int i, int goal) const
@@ -126,7 +125,7 @@ bool segmentClear(const AStar& a, const Eigen::Vector2d& from, const Eigen::Vect
     Cell c;
     if (!cellOf(a.cs.state, from + (to - from) * (static_cast<double>(k) / n), c)) return false;
     const int i = c.cx + c.cy * a.nx;
-    if (a.state(i) != SpaceState::Free || a.clearance[i] < min_clearance) return false;
+    if (a.state(i) != SpaceState::Free || a.clearance(i) < min_clearance) return false;
   }
   return true;
 }
@@ -143,7 +142,7 @@ double polylineClearance(const AStar& a, const std::vector<Eigen::Vector2d>& pts
     {
       Cell c;
       if (cellOf(a.cs.state, pts[s] + (pts[s + 1] - pts[s]) * (static_cast<double>(k) / n), c))
-        m = std::min(m, static_cast<double>(a.clearance[c.cx + c.cy * a.nx]));
+        m = std::min(m, static_cast<double>(a.clearance(c.cx + c.cy * a.nx)));
     }
   }
   return m;
@@ -158,7 +157,7 @@ std::vector<Eigen::Vector2d> shortcut(const AStar& a, const std::vector<Eigen::V
   while (first_free < cells.size() && a.state(cells[first_free]) != SpaceState::Free) ++first_free;
   double min_c = std::numeric_limits<double>::infinity();
   for (std::size_t k = first_free; k < cells.size(); ++k)
-    min_c = std::min(min_c, static_cast<double>(a.clearance[cells[k]]));
+    min_c = std::min(min_c, static_cast<double>(a.clearance(cells[k])));
   const double keep = min_c - a.p.shortcut_margin_m;
 
   std::vector<Eigen::Vector2d> out(pts.begin(), pts.begin() + std::min(first_free + 1, pts.size()));

@@ -12,7 +12,6 @@
 #include <optional>
 #include <vector>
 
-#include "FootprintGuard.h"
 #include "drive_log.h"
 
 namespace voxplore::navigation
@@ -159,18 +158,18 @@ DriveResult StopAndScanDriver::backOffFootprint()
       break;
     }
     bandPoints(pts, params_.min_obstacle_height_m, params_.max_obstacle_height_m, band);
-    const double clearance = rectangleClearance(band, hl, hw, CPose2D());
     // Each point pushes the rectangle away from it: along the vector from
     // its nearest point of the rectangle to it, or, inside, out through the
-    // nearer side.
+    // nearer side. The same pass gives the clearance (rectangleClearance).
     Eigen::Vector2d push(0, 0);
-    double weight = 0;
+    double weight = 0, clearance = std::numeric_limits<double>::infinity();
     for (const auto& q : band)
     {
       const double ex = std::abs(q.x()) - hl, ey = std::abs(q.y()) - hw;
       Eigen::Vector2d out(std::copysign(std::max(ex, 0.0), q.x()),
                           std::copysign(std::max(ey, 0.0), q.y()));
       double d = out.norm();
+      clearance = std::min(clearance, d);
       if (d >= target) continue;
       if (d < 1e-9)
       {

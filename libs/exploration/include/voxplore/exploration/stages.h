@@ -7,6 +7,7 @@
 #include <voxplore/exploration/grid.h>
 
 #include <Eigen/Core>
+#include <algorithm>
 #include <optional>
 #include <random>
 #include <string>
@@ -110,9 +111,14 @@ struct CollisionParams : public mrpt::config::CLoadableOptions
   /// footprint it fitted under a table and hit 5 cm base plates that neither
   /// the projection nor the guard sees, turtlebot3_house).
   double auto_footprint_above_m = 1.0;
-  /// @brief Does the planner plan with the footprint on a map of resolution
-  ///        l_res_m? (Footprint: yes; Circle: no; Auto: see model.)
-  bool usesFootprint(double l_res_m) const;
+  /// @brief The planner circle's diameter 2 (r_coll + sqrt(2) l_res) on a
+  ///        map of resolution l_res_m [m].
+  double plannerCircleDiameter(double l_res_m) const;
+  /// @brief The model planned with on a map of resolution l_res_m: Circle or
+  ///        Footprint (Auto resolved, see model).
+  Model modelInForce(double l_res_m) const;
+  /// @brief modelInForce(l_res_m) == Model::Footprint.
+  bool usesFootprint(double l_res_m) const { return modelInForce(l_res_m) == Model::Footprint; }
   static const char* toString(Model m);
   /// The rectangle (length along the robot's +X, width) [m]; not ini keys,
   /// set from the robot profile like r_coll_m.
@@ -137,6 +143,11 @@ struct CollisionSpace
   Grid<SpaceState> state;
   Grid<float> clearance_occ_m;      ///< distance from the cell centre to the nearest occupied cell centre [m]
   Grid<float> clearance_unknown_m;  ///< ... to the nearest unknown cell centre [m]
+  /// @brief The smaller of both clearances at row-major cell i [m].
+  float clearance(std::size_t i) const
+  {
+    return std::min(clearance_occ_m.data()[i], clearance_unknown_m.data()[i]);
+  }
   double radius_m = 0;              ///< r_coll + sqrt(2) l_res, the radius used
   /// Row-major over `state`: 1 for the Unknown cells that stand for
   /// unexplored space (CollisionParams: not beside an obstacle, not in a thin
