@@ -417,3 +417,32 @@ TEST(FootprintPlanner, TheFootprintModelExploresTheRoomBehindTheDoorTheCircleCan
   const PlanResult rc = plan(t, robot, circle);
   EXPECT_FALSE(rc.ok() && rc.target.x() > -0.7) << rc.message;
 }
+
+TEST(FootprintSpace, ARobotBoxedInADoorOneBinOffItsWayInTurnsBackOntoIt)
+{
+  // b14, nbv: the robot stood in a door one bin (5.6 deg) off the last pose
+  // of the way it came in, unknown a cell beyond its rectangle on both sides
+  // (the cameras see no floor near the body). Its own state was clear but
+  // not turnable (no turn margin), its bin ran into the unknown: 4 cells
+  // reached, "no frontier". It escapes by turning back onto its way in.
+  GroundGrid g = twoRoomsWithADoor(0.90);
+  paint(g, -1.3, -0.65, -1.5, 1.5, GroundState::Unknown);
+  paint(g, 0.75, 1.4, -1.5, 1.5, GroundState::Unknown);
+  const CollisionParams p = omniRob();
+  const CPose2D start(0.05, 0.0, M_PI / p.yaw_bins);
+  ASSERT_FALSE(clipsAWall(g, start));
+  SweptPath swept;
+  for (double x = -2.0; x <= 0.05 + 1e-9; x += 0.05) swept.emplace_back(x, 0.0, 0.0);
+  const Planned pl = footprintSpaceOf(g, start, p, swept);
+  const std::size_t ri = pl.fs.robot.cx + pl.fs.robot.cy * pl.fs.clear.getSizeX();
+  const YawMask own = YawMask(1) << pl.fs.robot_bin;
+  ASSERT_TRUE(pl.fs.clear.data()[ri] & own);        // clear where it stands ...
+  ASSERT_FALSE(pl.fs.clear_turn.data()[ri] & own);  // ... but not turnable
+  EXPECT_TRUE(pl.fs.escape_boxed_in);
+  EXPECT_TRUE(reachedAt(pl, -2.0, 0.0));
+  const auto path = planFootprintPath(pl.cs, pl.fs, start, {-2.0, 0.0}, 0.0, PathParams{});
+  ASSERT_TRUE(path);
+  expectNeverClips(g, *path);
+  // A robot that can turn where it stands is not boxed in.
+  EXPECT_FALSE(footprintSpaceOf(g, CPose2D(-2.0, 0.0, M_PI / p.yaw_bins), p, swept).fs.escape_boxed_in);
+}

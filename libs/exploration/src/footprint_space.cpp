@@ -298,6 +298,37 @@ FootprintSpace computeFootprintSpace(
     for (std::size_t i = 0; i < n; ++i) escape[i] &= ~clear[i];
   }
   flood(fs, reach, clear, clear_turn, queue, nx, ny);
+  // Boxed in: the start is clear but not turnable and no turnable state is
+  // reached (b14, nbv: the robot stood in a door one bin off the way it came
+  // in, its bin blocked by the unknown round the door a few cells on, no
+  // 5 cm turn margin in the door: 4 cells reached, "no frontier", 0.319).
+  // Escape through states clear of occupied cells by the margin (unknown
+  // ignored), turning there without the turn margin, up to the first
+  // turnable state. The guard still holds a turn that comes within its
+  // margin of a sensed point.
+  if ((clear[ri] & own) && !(clear_turn[ri] & own))
+  {
+    bool turnable = false;
+    for (std::size_t i = 0; i < n && !turnable; ++i) turnable = (reach[i] & clear_turn[i]) != 0;
+    if (!turnable)
+    {
+      escape[ri] = fs.turnClosure(own, clear_occ[ri]);
+      std::deque<int> q{static_cast<int>(ri)};
+      flood(fs, escape, clear_occ, clear_occ, q, nx, ny, clear_turn);
+      for (std::size_t i = 0; i < n; ++i)
+      {
+        const YawMask s = escape[i] & clear_turn[i];
+        if (!s) continue;
+        escape[i] &= ~clear_turn[i];
+        const YawMask fresh = (s | fs.turnClosure(s, clear_turn[i])) & ~reach[i];
+        if (!fresh) continue;
+        reach[i] |= fresh;
+        queue.push_back(static_cast<int>(i));
+      }
+      fs.escape_boxed_in = true;
+      flood(fs, reach, clear, clear_turn, queue, nx, ny);
+    }
+  }
   // The escape states are reached too (the robot passes through them).
   for (std::size_t i = 0; i < n; ++i) reach[i] |= escape[i];
 

@@ -56,6 +56,11 @@ struct FootprintSpace
   /// under the body: a pose or map error of decimetres): the escape ignored
   /// the occupied cells under the rectangle at the robot's pose.
   bool escape_ignored_occupied = false;
+  /// The start was clear but boxed in (not turnable, and no turnable state
+  /// reached through clear ones): the escape went through states clear of
+  /// occupied cells by margin_m, turning without turn_margin_m, up to the
+  /// first turnable state.
+  bool escape_boxed_in = false;
   Cell robot;         ///< the robot's cell
   int robot_bin = 0;  ///< the bin of the robot's yaw
 
