@@ -349,10 +349,13 @@ TEST(FootprintSpace, TheWayTheRobotCameInStaysOpen)
   const auto path = planFootprintPath(open.cs, open.fs, start, {-1.5, 0.0}, 0.0, PathParams{});
   ASSERT_TRUE(path);
   expectNeverClips(g, *path);
-  // A swept pose the map says would clip a wall (a pose estimate off by
-  // more than a cell) is not trusted: a 0.70 m door stays closed.
-  GroundGrid g70 = twoRoomsWithADoor(0.70);
-  const Planned refused = footprintSpaceOf(g70, start, omniRob(), swept);
+  // A swept pose the map says would clip a wall by more than a cell (a pose
+  // estimate off by that much) is not trusted: a 0.60 m door stays closed
+  // (the body shrunk by a cell a side is 0.612 m wide; 0.70 m between the
+  // squares is trusted: the squares are up to a cell wider than the wall,
+  // so the door may be 0.80 m).
+  GroundGrid g60 = twoRoomsWithADoor(0.60);
+  const Planned refused = footprintSpaceOf(g60, start, omniRob(), swept);
   EXPECT_FALSE(reachedAt(refused, -1.5, 0.0));
 }
 
@@ -445,4 +448,40 @@ TEST(FootprintSpace, ARobotBoxedInADoorOneBinOffItsWayInTurnsBackOntoIt)
   expectNeverClips(g, *path);
   // A robot that can turn where it stands is not boxed in.
   EXPECT_FALSE(footprintSpaceOf(g, CPose2D(-2.0, 0.0, M_PI / p.yaw_bins), p, swept).fs.escape_boxed_in);
+}
+
+TEST(FootprintSpace, TheWayInStaysOpenWhereTheBodysEndWasInTheDoor)
+{
+  // b18, nearest: the robot drove through a 0.80 m door (between the wall
+  // squares; a 0.15 m wall) squarely at a bin's centre yaw, its estimate
+  // 7.5 cm off the door's middle (the bare body 3.1 cm into a post's
+  // squares: they are up to a cell wider than the wall). Tested at every
+  // yaw of the bin, the corners of the body shrunk by a cell swung 3 cm
+  // into the post where the body's end was in the door, the way back was
+  // closed, and the run ended at 0.088.
+  GroundGrid g = makeGround(-3.2, 3.4, -1.7, 1.7, kRes, GroundState::Occupied);
+  paint(g, -3.0, 3.2, -1.5, 1.5, GroundState::Free);
+  paint(g, 0.0, 0.15, -1.5, -0.40, GroundState::Occupied);
+  paint(g, 0.0, 0.15, 0.40, 1.5, GroundState::Occupied);
+  // Unknown beyond a metre of the wall on the far side: the body's own bin
+  // is all that leads back.
+  paint(g, -3.0, -0.9, -1.5, 1.5, GroundState::Unknown);
+  const CPose2D start(1.8, 0.0, 0.0);
+  SweptPath swept;
+  for (double x = -0.8; x <= 1.8 + 1e-9; x += 0.05) swept.emplace_back(x, 0.075, 0.0);
+  const Planned pl = footprintSpaceOf(g, start, omniRob(), swept);
+  EXPECT_TRUE(reachedAt(pl, -0.6, 0.075));
+  const auto path = planFootprintPath(pl.cs, pl.fs, start, {-0.6, 0.075}, 0.0, PathParams{});
+  ASSERT_TRUE(path);
+  // The body shrunk by a cell never clips a wall square on the way.
+  GroundGrid walls = g;
+  for (auto it = walls.state.begin(); it != walls.state.end(); ++it)
+    if (*it == GroundState::Unknown) *it = GroundState::Free;
+  for (std::size_t k = 0; k + 1 < path->waypoints.size(); ++k)
+    for (int i = 0; i <= 20; ++i)
+    {
+      const Eigen::Vector2d q = path->waypoints[k] + (path->waypoints[k + 1] - path->waypoints[k]) * (i / 20.0);
+      ASSERT_FALSE(clipsAWall(walls, CPose2D(q.x(), q.y(), path->yaws[k + 1]), kLength / 2 - kRes,
+                              kWidth / 2 - kRes));
+    }
 }

@@ -169,4 +169,30 @@ YawMask stampBlocks(const std::vector<StampEntry>& stamp, const std::vector<uint
   return blocked;
 }
 
+bool rectangleOverlaps(const std::vector<uint8_t>& obstacle, int nx, int ny, double res, int cx,
+                       int cy, double yaw, double a, double b)
+{
+  const double c = std::cos(yaw), s = std::sin(yaw);
+  const double h = 0.5 * res;
+  const double support = h * (std::abs(c) + std::abs(s));  // the square along the rectangle's axes
+  const double ex = a * std::abs(c) + b * std::abs(s), ey = a * std::abs(s) + b * std::abs(c);
+  const int rx = static_cast<int>(std::ceil((ex + h) / res)), ry = static_cast<int>(std::ceil((ey + h) / res));
+  for (int dy = -ry; dy <= ry; ++dy)
+  {
+    const int v = cy + dy;
+    if (v < 0 || v >= ny) continue;
+    for (int dx = -rx; dx <= rx; ++dx)
+    {
+      const int u = cx + dx;
+      if (u < 0 || u >= nx || !obstacle[static_cast<std::size_t>(v) * nx + u]) continue;
+      // Separating axes: the square's two (world x, y) and the rectangle's two.
+      const double px = dx * res, py = dy * res;
+      if (std::abs(px) > ex + h || std::abs(py) > ey + h) continue;
+      if (std::abs(c * px + s * py) > a + support || std::abs(-s * px + c * py) > b + support) continue;
+      return true;
+    }
+  }
+  return false;
+}
+
 }  // namespace voxplore::exploration::detail

@@ -62,4 +62,10 @@ void stampAt(std::vector<YawMask>& a, std::vector<YawMask>* b, const std::vector
 YawMask stampBlocks(const std::vector<StampEntry>& stamp, const std::vector<uint8_t>& obstacle,
                     int nx, int ny, int cx, int cy, YawMask bins);
 
+/// Does the rectangle (half sides a, b) centred at robot cell (cx, cy) at
+/// exactly `yaw` overlap a square of `obstacle` (separating axes, each cell
+/// a full square of side res)?
+bool rectangleOverlaps(const std::vector<uint8_t>& obstacle, int nx, int ny, double res, int cx,
+                       int cy, double yaw, double a, double b);
+
 }  // namespace voxplore::exploration::detail
