@@ -182,7 +182,7 @@ void ExploreRun::openOutputs()
   coverage_csv_ << "step,stops,sim_time_s,path_length_m,coverage_2d,frontiers,done,target_x,"
                    "target_y,waypoints,ms_slam,ms_projection,ms_collision,ms_frontiers,"
                    "ms_sampling,ms_rating,ms_path,ms_plan_total,metaview_points,octree_nodes,"
-                   "rss_mb,coverage_2d_planner_circle\n";
+                   "rss_mb,coverage_2d_planner_circle,ms_tour,tour_length_m\n";
   if (cfg_.explore.write_step_images) fs::create_directories(dir / "steps");
 }
 
@@ -196,13 +196,14 @@ void ExploreRun::writeCoverageRow(const exploration::PlanResult& p, double cover
 {
   coverage_csv_ << mrpt::format(
       "%zu,%zu,%.3f,%.4f,%.5f,%zu,%s,%.3f,%.3f,%zu,%.1f,%.1f,%.1f,%.1f,%.1f,%.1f,%.1f,%.1f,%zu,%zu,"
-      "%.1f,%.5f\n",
+      "%.1f,%.5f,%.1f,%.2f\n",
       s_.steps, s_.stops, sim_.simTime(), s_.path_length_m, coverage,
       p.frontiers ? p.frontiers->frontiers.size() : std::size_t(0),
       p.ok() ? "no" : exploration::toString(p.done), p.target.x(), p.target.y(),
       p.waypoints.size(), slam_ms, p.ms.projection, p.ms.collision, p.ms.frontiers,
       p.ms.sampling, p.ms.rating, p.ms.path, p.ms.total, slam().metaview().size(),
-      slam().octomap().tree().size(), processMemoryMb("VmRSS:"), coverage_planner_circle);
+      slam().octomap().tree().size(), processMemoryMb("VmRSS:"), coverage_planner_circle,
+      p.ms.tour, p.tour.length_m);
   coverage_csv_.flush();
   // coverage.png follows coverage.csv at every step (a few ms), so a run cut
   // short still leaves it.

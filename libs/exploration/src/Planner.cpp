@@ -4,6 +4,7 @@
 #include <voxplore/exploration/Planner.h>
 
 #include <algorithm>
+#include <limits>
 #include <numeric>
 #include <sstream>
 
@@ -54,11 +55,19 @@ void PlannerParams::load(const mrpt::config::CConfigFileBase& cfg)
   common::assertNumericValues(cfg, "scan_rating", rating);
   rating.loadFromConfigFile(cfg, "scan_rating");
   common::loadChecked(path, cfg, "path");
-  common::assertKnownKeys(cfg, "planner", std::set<std::string>{"strategy", "seed"});
+  common::assertKnownKeys(cfg, "planner",
+                          std::set<std::string>{"strategy", "seed", "frontier_order", "tour_cell_m"});
   const std::string s = cfg.read_string("planner", "strategy", "nbv");
   common::requireValid(s == "nbv" || s == "nearest", cfg, "planner", "strategy", "expected nbv or nearest");
   strategy = s == "nbv" ? Strategy::NextBestView : Strategy::NearestFrontier;
   seed = static_cast<int>(common::readDoubleStrict(cfg, "planner", "seed", seed));
+  const std::string o = cfg.read_string("planner", "frontier_order", "nearest");
+  common::requireValid(o == "tour" || o == "nearest", cfg, "planner", "frontier_order",
+                       "expected tour or nearest");
+  frontier_order = o == "tour" ? FrontierOrder::Tour : FrontierOrder::Nearest;
+  tour_cell_m = common::readDoubleStrict(cfg, "planner", "tour_cell_m", tour_cell_m);
+  common::requireValid(tour_cell_m > 0 && tour_cell_m <= 0.2, cfg, "planner", "tour_cell_m",
+                       "must be in (0, 0.2] (larger blocks may join the two sides of a wall)");
 }
 
 void PlannerParams::save(mrpt::config::CConfigFileBase& cfg) const
@@ -70,6 +79,8 @@ void PlannerParams::save(mrpt::config::CConfigFileBase& cfg) const
   path.saveToConfigFile(cfg, "path");
   cfg.write("planner", "strategy", strategy == Strategy::NextBestView ? "nbv" : "nearest");
   cfg.write("planner", "seed", seed);
+  cfg.write("planner", "frontier_order", frontier_order == FrontierOrder::Tour ? "tour" : "nearest");
+  cfg.write("planner", "tour_cell_m", tour_cell_m);
 }
 
 namespace
@@ -236,9 +247,41 @@ PlanResult plan(
     r.message = "no frontier: the reachable space is fully explored";
   }
   std::vector<float> footprint_cost;  // footprintCostFromStart, when first needed
+  // frontier_order = tour: each threshold tier's frontiers ranked by an open
+  // tour from the robot (the tier of th_f1, then the rest above th_f2).
+  std::vector<double> rank;
+  std::vector<FrontierTour> tours;
+  const bool by_tour = p.strategy == Strategy::NextBestView &&
+                       p.frontier_order == FrontierOrder::Tour && !fm->frontiers.empty();
+  if (by_tour)
+  {
+    tic.Tic();
+    rank.assign(fm->frontiers.size(), std::numeric_limits<double>::infinity());
+    std::vector<std::size_t> tier1, tier2;
+    for (std::size_t i = 0; i < fm->frontiers.size(); ++i)
+    {
+      const Frontier& f = fm->frontiers[i];
+      if (f.size_m <= p.sampling.th_f2_m) continue;
+      if (std::any_of(blacklist.begin(), blacklist.end(), [&](const Eigen::Vector2d& b) {
+            return (b - f.center).norm() < p.sampling.blacklist_radius_m;
+          }))
+        continue;
+      (f.size_m > p.sampling.th_f1_m ? tier1 : tier2).push_back(i);
+    }
+    for (const auto* tier : {&tier1, &tier2})
+    {
+      tours.push_back(frontierTour(*fm, ground->robot, *tier, p.tour_cell_m));
+      const auto& order = tours.back().order;
+      for (std::size_t k = 0; k < order.size(); ++k) rank[order[k]] = static_cast<double>(k);
+    }
+    r.ms.tour = 1e3 * tic.Tac();
+  }
   while (r.done == DoneReason::None)
   {
-    const auto fi = chooseFrontier(fm->frontiers, p.sampling, blacklist, r.skipped_frontiers);
+    const auto fi = chooseFrontier(fm->frontiers, p.sampling, blacklist, r.skipped_frontiers,
+                                   by_tour ? &rank : nullptr);
+    if (fi && by_tour)
+      r.tour = tours[fm->frontiers[*fi].size_m > p.sampling.th_f1_m ? 0 : 1];
     if (!fi)
     {
       r.done = r.skipped_frontiers.empty() ? DoneReason::NoReachableFrontier : DoneReason::AllSkipped;

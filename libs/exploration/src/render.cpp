@@ -13,7 +13,8 @@ using mrpt::img::TColor;
 const TColor kFree(255, 255, 255), kOccupied(0, 0, 0), kUnknown(220, 40, 40),
     kCollision(150, 150, 150), kMaybe(60, 190, 60), kReachable(120, 160, 255),
     kFrontier(0, 220, 220), kChosen(255, 230, 0), kSampleSpace(170, 90, 200),
-    kSample(255, 150, 0), kPath(230, 0, 200), kRobot(140, 0, 0), kTrail(120, 30, 30);
+    kSample(255, 150, 0), kPath(230, 0, 200), kRobot(140, 0, 0), kTrail(120, 30, 30),
+    kTour(0, 140, 0);
 
 class Canvas
 {
@@ -104,6 +105,17 @@ void renderPlan(
   for (std::size_t i = 1; i < trajectory.size(); i++)
     cv.line({trajectory[i - 1].x(), trajectory[i - 1].y()}, {trajectory[i].x(), trajectory[i].y()},
             kTrail, 2);
+  if (r.frontiers && !r.tour.order.empty())
+  {
+    // The tour: robot, then each frontier's centre in order.
+    Eigen::Vector2d from(robot.x(), robot.y());
+    for (const std::size_t i : r.tour.order)
+    {
+      const Eigen::Vector2d to = r.frontiers->frontiers[i].center;
+      cv.line(from, to, kTour, 1);
+      from = to;
+    }
+  }
   for (const auto& s : r.samples) cv.dot({s.x(), s.y()}, scale, kSample);
   if (r.path)
   {

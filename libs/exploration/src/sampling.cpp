@@ -130,8 +130,10 @@ void SamplingParams::saveToConfigFile(mrpt::config::CConfigFileBase& c, const st
 std::optional<std::size_t> chooseFrontier(const std::vector<Frontier>& frontiers,
                                           const SamplingParams& p,
                                           const std::vector<Eigen::Vector2d>& blacklist,
-                                          const std::vector<std::size_t>& skip)
+                                          const std::vector<std::size_t>& skip,
+                                          const std::vector<double>* rank)
 {
+  auto key = [&](std::size_t i) { return rank ? (*rank)[i] : frontiers[i].distance_m; };
   for (const double th : {p.th_f1_m, p.th_f2_m})
   {
     std::optional<std::size_t> best;
@@ -140,7 +142,7 @@ std::optional<std::size_t> chooseFrontier(const std::vector<Frontier>& frontiers
       const Frontier& f = frontiers[i];
       if (f.size_m <= th || std::find(skip.begin(), skip.end(), i) != skip.end()) continue;
       if (nearAny(f.center, blacklist, p.blacklist_radius_m)) continue;
-      if (!best || f.distance_m < frontiers[*best].distance_m) best = i;
+      if (!best || key(i) < key(*best)) best = i;
     }
     if (best) return best;
   }

@@ -23,6 +23,14 @@ enum class Strategy
   NearestFrontier  ///< drive to the chosen frontier's nearest Free cell to its centre (no rating)
 };
 
+/// @brief The order in which the next-best-view strategy takes frontiers
+///        (the nearest strategy, the baseline, always takes the nearest).
+enum class FrontierOrder
+{
+  Tour,    ///< the first stop of an open tour over travel distances (issue 12)
+  Nearest  ///< the nearest by travel distance (thesis 4.5.4)
+};
+
 /// @brief All planner settings: [projection] [collision] [sampling] [scan_rating] [path] [planner].
 struct PlannerParams
 {
@@ -33,6 +41,8 @@ struct PlannerParams
   PathParams path;
   Strategy strategy = Strategy::NextBestView;
   int seed = 1;  ///< [planner] seed of the pose sampler
+  FrontierOrder frontier_order = FrontierOrder::Nearest;  ///< [planner] frontier_order = tour | nearest
+  double tour_cell_m = 0.2;  ///< [planner] the tour's travel costs on blocks of about this side [m]
 
   void load(const mrpt::config::CConfigFileBase& cfg);
   void save(mrpt::config::CConfigFileBase& cfg) const;
@@ -65,7 +75,7 @@ const char* toString(SkipReason r);
 /// @brief Milliseconds per stage of one planning step.
 struct PlanTimings
 {
-  double projection = 0, collision = 0, frontiers = 0, sampling = 0, rating = 0, path = 0, total = 0;
+  double projection = 0, collision = 0, frontiers = 0, tour = 0, sampling = 0, rating = 0, path = 0, total = 0;
 };
 
 /// @brief Result of one planning step: a plan, or done with its reason.
@@ -93,6 +103,9 @@ struct PlanResult
   std::shared_ptr<const FrontierMap> frontiers;
   std::shared_ptr<const FootprintSpace> footprint;  ///< [collision] model = footprint only
   std::vector<Cell> sample_space;
+  /// frontier_order = tour (next-best-view): the tour over the tier the
+  /// chosen frontier was taken from (empty otherwise).
+  FrontierTour tour;
 
   bool ok() const { return done == DoneReason::None; }
 };

@@ -220,9 +220,32 @@ struct SamplingParams : public mrpt::config::CLoadableOptions
 ///        the nearest frontier longer than th_f1, else longer than th_f2,
 ///        skipping `skip` (indices) and frontiers near a blacklisted point.
 /// @return empty when none qualifies (exploration done)
+/// @param rank optional, one per frontier: chosen by least rank instead of
+///        least distance (the tour's order), within each threshold tier.
 std::optional<std::size_t> chooseFrontier(
     const std::vector<Frontier>& frontiers, const SamplingParams& p,
-    const std::vector<Eigen::Vector2d>& blacklist, const std::vector<std::size_t>& skip = {});
+    const std::vector<Eigen::Vector2d>& blacklist, const std::vector<std::size_t>& skip = {},
+    const std::vector<double>* rank = nullptr);
+
+/// @brief An order of frontiers to visit (issue 12).
+struct FrontierTour
+{
+  std::vector<std::size_t> order;  ///< indices into FrontierMap::frontiers, the next first
+  double length_m = 0;             ///< travel from the robot through all of them [m]
+};
+
+/// @brief Open tour (a path from node 0 through every node, no return) over
+///        the cost matrix d (square; d[i][j] from i to j): nearest insertion,
+///        then 2-opt. Node 0 stays first.
+/// @return node indices, 0 first
+std::vector<int> openTour(const std::vector<std::vector<double>>& d);
+
+/// @brief The tour from the robot's cell through the centres of the
+///        frontiers `nodes` (indices into fm.frontiers), on travel costs over
+///        fm.reachable in blocks of about cell_m (Dijkstra, 8-connected).
+///        Frontiers not connected to the robot cost 1e5 m and come last.
+FrontierTour frontierTour(const FrontierMap& fm, const Cell& robot,
+                          const std::vector<std::size_t>& nodes, double cell_m);
 
 /// @brief Sample space: reachable Free cells whose distance to the nearest
 ///        frontier cell is in [d_min_sample, d_max_sample] and that see at
