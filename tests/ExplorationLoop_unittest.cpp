@@ -407,3 +407,32 @@ TEST(ExplorationLoop, AScanSourceErrorPropagatesAndTheStopsSoFarStay)
 }
 
 }  // namespace
+
+TEST(ExplorationLoop, ARunThatFindsNoNewFloorEndsWithStagnation)
+{
+  // The stagnation rule: with a gain no step can reach (1,000 m^2 over 2
+  // steps) the run ends at the third planning step, by itself, the robot
+  // standing, the frontiers left reported. (The default rule, 2 m^2 over 20
+  // steps, lets ExploresTwoRoomsWithARobotOutsideTheSimulator end by "no
+  // frontier".)
+  RobotSetup setup;
+  setup.loop.stagnation_steps = 2;
+  setup.loop.stagnation_min_gain_m2 = 1000.0;
+  DiscRobot robot(twoRooms(), mrpt::poses::CPose2D(2.0, 2.0, 0.0), setup.radius_m);
+  BoxCameras cameras(robot, setup.mounts);
+  mission::ExplorationLoop loop(robot, cameras, robot, setup.slam, setup.planner, setup.driver,
+                                setup.loop);
+  const auto& status = loop.run();
+  EXPECT_EQ(status.termination_reason, "stagnation");
+  EXPECT_EQ(status.steps, 3u);
+  EXPECT_GT(status.known_floor_m2, 1.0);
+  EXPECT_FALSE(status.frontiers_left.empty());
+  // Off (0): the same run goes on past the third step.
+  setup.loop.stagnation_steps = 0;
+  setup.loop.max_steps = 4;
+  DiscRobot robot2(twoRooms(), mrpt::poses::CPose2D(2.0, 2.0, 0.0), setup.radius_m);
+  BoxCameras cameras2(robot2, setup.mounts);
+  mission::ExplorationLoop loop2(robot2, cameras2, robot2, setup.slam, setup.planner,
+                                 setup.driver, setup.loop);
+  EXPECT_NE(loop2.run().termination_reason, "stagnation");
+}

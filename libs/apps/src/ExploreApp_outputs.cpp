@@ -152,6 +152,15 @@ void writeExploreSummary(const ExploreSummary& s, const std::string& path)
     << ",\n  \"skipped_cameras\": " << s.skipped_cameras << ",\n  \"failed_drives\": " << s.failed_drives
     << ",\n  \"blacklisted\": " << s.blacklisted << ",\n  \"guard_scaled\": " << s.guard_scaled
     << ",\n  \"guard_held\": " << s.guard_held << ",\n  \"path_length_m\": " << s.path_length_m
+    << ",\n  \"known_floor_m2\": " << s.known_floor_m2 << ",\n  \"frontiers_left_map\": [";
+  double left_m = 0;
+  for (std::size_t i = 0; i < s.frontiers_left.size(); i++)
+  {
+    const auto& fr = s.frontiers_left[i];
+    f << (i ? ", " : "") << "[" << fr[0] << ", " << fr[1] << ", " << fr[2] << "]";
+    left_m += fr[2];
+  }
+  f << "],\n  \"frontiers_left_m\": " << left_m
     << ",\n  \"coverage_2d\": " << s.coverage_2d
     << ",\n  \"coverage_2d_planner_circle\": " << s.coverage_2d_planner_circle
     << ",\n  \"coverage_2d_circumradius\": " << s.coverage_2d_circumradius
@@ -257,6 +266,9 @@ void ExploreRun::finish()
   s_.blacklisted = status.blacklisted;
   s_.guard_scaled = status.guard_scaled;
   s_.guard_held = status.guard_held;
+  s_.known_floor_m2 = status.known_floor_m2;
+  s_.frontiers_left.clear();
+  for (const auto& [c, len] : status.frontiers_left) s_.frontiers_left.push_back({c.x(), c.y(), len});
 
   mrpt::system::CTicTac tic;
   const double res = cfg_.slam.octomap.l_res_m;

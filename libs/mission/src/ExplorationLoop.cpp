@@ -39,6 +39,10 @@ void ExplorationLoopParams::loadFromConfigFile(const mrpt::config::CConfigFileBa
   MRPT_LOAD_CONFIG_VAR(max_failures_per_target, int, c, s);
   MRPT_LOAD_CONFIG_VAR(max_plans_per_target, int, c, s);
   MRPT_LOAD_CONFIG_VAR(min_progress_m, double, c, s);
+  MRPT_LOAD_CONFIG_VAR(stagnation_steps, int, c, s);
+  MRPT_LOAD_CONFIG_VAR(stagnation_min_gain_m2, double, c, s);
+  common::requireValid(stagnation_steps >= 0, c, s, "stagnation_steps", "must be >= 0");
+  common::requireValid(stagnation_min_gain_m2 >= 0, c, s, "stagnation_min_gain_m2", "must be >= 0");
   common::requireValid(max_steps >= 0, c, s, "max_steps", "must be >= 0");
   common::requireValid(max_sim_time_s > 0, c, s, "max_sim_time_s", "must be > 0");
   common::requireValid(max_plans_per_target >= 0, c, s, "max_plans_per_target", "must be >= 0");
@@ -55,6 +59,8 @@ void ExplorationLoopParams::saveToConfigFile(mrpt::config::CConfigFileBase& c,
   MRPT_SAVE_CONFIG_VAR(max_failures_per_target, c, s);
   MRPT_SAVE_CONFIG_VAR(max_plans_per_target, c, s);
   MRPT_SAVE_CONFIG_VAR(min_progress_m, c, s);
+  MRPT_SAVE_CONFIG_VAR(stagnation_steps, c, s);
+  MRPT_SAVE_CONFIG_VAR(stagnation_min_gain_m2, c, s);
 }
 
 /// The robot as the navigator sees it: the user's robot, with pose() the
@@ -168,11 +174,23 @@ void ExplorationLoop::loop()
     const double plan_s = tic.Tac();
     status_.compute_s += plan_s;
     status_.steps = step + 1;
+    noteFrontiers(plan);
     if (listener_) listener_->onPlan(plan, plan_s * 1e3, status_);
     status_.slam_ms_step = 0;
     if (!plan.ok())
     {
       status_.termination_reason = exploration::toString(plan.done);
+      return;
+    }
+    if (stagnated())
+    {
+      status_.termination_reason = "stagnation";
+      message(mrpt::format("stagnation: %.1f m^2 of floor found in the last %d steps (< %.1f); "
+                           "%zu frontier(s) left",
+                           known_floor_.back() - known_floor_[known_floor_.size() - 1 -
+                                                              static_cast<std::size_t>(params_.stagnation_steps)],
+                           params_.stagnation_steps, params_.stagnation_min_gain_m2,
+                           status_.frontiers_left.size()));
       return;
     }
     // A frontier planned again and again without disappearing (an unseeable
@@ -279,6 +297,29 @@ void ExplorationLoop::registerPlan(const Eigen::Vector2d& target)
             std::to_string(params_.max_plans_per_target) +
             " times without being explored: blacklisted");
   }
+}
+
+void ExplorationLoop::noteFrontiers(const exploration::PlanResult& plan)
+{
+  status_.frontiers_left.clear();
+  if (plan.frontiers)
+    for (const auto& f : plan.frontiers->frontiers)
+      status_.frontiers_left.emplace_back(f.center, f.size_m);
+  if (!plan.ground) return;
+  const auto& st = plan.ground->state;
+  const double cell = st.getResolution() * st.getResolution();
+  status_.known_floor_m2 =
+      cell * static_cast<double>(std::count(st.data().begin(), st.data().end(),
+                                            exploration::GroundState::Free));
+  known_floor_.push_back(status_.known_floor_m2);
+}
+
+bool ExplorationLoop::stagnated() const
+{
+  const auto k = static_cast<std::size_t>(params_.stagnation_steps);
+  if (k == 0 || known_floor_.size() <= k) return false;
+  return known_floor_.back() - known_floor_[known_floor_.size() - 1 - k] <
+         params_.stagnation_min_gain_m2;
 }
 
 void ExplorationLoop::addSwept(const mrpt::poses::CPose2D& e)

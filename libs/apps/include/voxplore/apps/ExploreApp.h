@@ -53,7 +53,7 @@ struct ExploreOptions
 /// @brief What a run achieved (also summary.json).
 struct ExploreSummary
 {
-  std::string termination_reason;  ///< planner's done reason, "max_steps", "max_sim_time" or "interrupted" (SIGINT / SIGTERM)
+  std::string termination_reason;  ///< planner's done reason, "stagnation", "max_steps", "max_sim_time" or "interrupted" (SIGINT / SIGTERM)
   std::string planner_model;  ///< the collision model planned with: "circle" or "footprint" ([collision] model, auto resolved)
   std::size_t steps = 0;           ///< planning steps
   std::size_t stops = 0;           ///< scan stops (SlamIcp calls)
@@ -67,6 +67,9 @@ struct ExploreSummary
   std::size_t blacklisted = 0;     ///< targets given up
   std::size_t guard_scaled = 0;    ///< commands the footprint guard slowed ([navigation] footprint_guard)
   std::size_t guard_held = 0;      ///< ... and held still
+  double known_floor_m2 = 0;       ///< free floor known in G at the end [m^2]
+  /// Frontiers left at the end (map frame): centre x, y and length [m].
+  std::vector<std::array<double, 3>> frontiers_left;
   double path_length_m = 0;        ///< ground-truth distance travelled [m]
   double coverage_2d = 0;          ///< share of the GT free floor the robot's footprint reaches or sees (floor_reachable_m2) that the map knows as free
   double coverage_2d_planner_circle = 0;  ///< the same share of the floor the planner's collision circle (r_coll + sqrt(2) l_res) reaches

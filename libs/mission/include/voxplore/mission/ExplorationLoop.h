@@ -90,13 +90,19 @@ class SystemClock : public Clock
 ///        (apps::ExploreParams adds the simulator's evaluation keys there).
 struct ExplorationLoopParams : public mrpt::config::CLoadableOptions
 {
-  int max_steps = 100;              ///< planning steps before giving up ("max_steps")
+  int max_steps = 500;              ///< planning steps before giving up ("max_steps"; a safety net)
   /// Seconds of the Clock before giving up ("max_sim_time"), also inside a
   /// drive; the key keeps its name from the simulator [s]
   double max_sim_time_s = 3600.0;
   int max_failures_per_target = 2;  ///< failed drives towards one frontier before it is blacklisted
   int max_plans_per_target = 0;     ///< plans for one frontier before it is blacklisted; 0 = no limit (a frontier explored a little at every step, e.g. down a corridor, is planned many times)
   double min_progress_m = 0.05;     ///< a step that moves the robot less than this counts as a failed drive [m]
+  /// Stagnation (issue 12): the run ends ("stagnation") when the free floor
+  /// known in G grew by less than stagnation_min_gain_m2 over the last
+  /// stagnation_steps planning steps (frontier slivers no pose clears, seen
+  /// again and again); 0 = never.
+  int stagnation_steps = 20;
+  double stagnation_min_gain_m2 = 2.0;  ///< [m^2]
 
   void loadFromConfigFile(const mrpt::config::CConfigFileBase& c, const std::string& s) override;
   void saveToConfigFile(mrpt::config::CConfigFileBase& c, const std::string& s) const override;
@@ -106,7 +112,8 @@ struct ExplorationLoopParams : public mrpt::config::CLoadableOptions
 struct ExplorationStatus
 {
   /// Empty while running; then the planner's done reason ("no frontier",
-  /// ...), "max_steps", "max_sim_time", or what Listener::stopReason() said
+  /// ...), "stagnation", "max_steps", "max_sim_time", or what
+  /// Listener::stopReason() said
   std::string termination_reason;
   std::size_t steps = 0;          ///< planning steps
   std::size_t failed_drives = 0;  ///< waypoints not reached (Blocked / Timeout / Error)
@@ -117,6 +124,10 @@ struct ExplorationStatus
   double compute_s = 0;           ///< wall time of SLAM + planning [s]
   double slam_ms_step = 0;        ///< SLAM time of the current step so far [ms]
   double elapsed_s = 0;           ///< Clock time since run() started [s]
+  double known_floor_m2 = 0;      ///< free floor known in G at the last planning step [m^2]
+  /// The frontiers of the last planning step (map frame): centre and length
+  /// [m]; what is left unexplored when the run ends.
+  std::vector<std::pair<Eigen::Vector2d, double>> frontiers_left;
 };
 
 /// @brief Hooks for whoever runs the loop (logging, evaluation, a GUI).
@@ -195,6 +206,10 @@ class ExplorationLoop
   /// Counts a plan for the frontier at `target`; blacklists it after max_plans_per_target.
   void registerPlan(const Eigen::Vector2d& target);
   void addSwept(const mrpt::poses::CPose2D& e);
+  /// The plan's frontiers and known floor into status_ (and known_floor_).
+  void noteFrontiers(const exploration::PlanResult& plan);
+  /// The stagnation rule (ExplorationLoopParams::stagnation_steps).
+  bool stagnated() const;
   void onRobotStep();
   void message(const std::string& line);
   /// The listener's stop reason, max_steps (only `between_steps`), or the
@@ -218,6 +233,7 @@ class ExplorationLoop
   TargetCounts failures_;  ///< failed drives per frontier
   TargetCounts plans_;     ///< plans so far per frontier
   exploration::SweptPath swept_;
+  std::vector<double> known_floor_;  ///< known_floor_m2 at each planning step
   ExplorationStatus status_;
 };
 
