@@ -761,6 +761,29 @@ TEST(StopAndScanDriver, TheFootprintDriveStopsBeforeASeventyCentimetreDoor)
   EXPECT_EQ(rig.collisions(), 0u);
   EXPECT_LT(rig.sim->robot().groundTruth().x() + 0.6, 4.0 - 0.075) << "its nose stays in the room";
   expectStandsStill(rig);
+  EXPECT_TRUE(r.blocking_points.empty()) << "the guard ended it, not the waypoint check";
+}
+
+TEST(StopAndScanDriver, AFootprintDriveBlockedAtItsWaypointSaysByWhichPoints)
+{
+  // A waypoint 0.5 m short of the 0.7 m door: the rectangle there reaches
+  // the door posts (its half width 0.356 m, the posts 0.35 m off its axis).
+  // The waypoint check ends the drive at once, and says which sensed points
+  // were in the way (map frame) for the planner: at the posts, inside the
+  // rectangle at the waypoint.
+  SimRig rig("omnirob", twoRoomsWorld(0.70), mrpt::poses::CPose2D(3.0, 2.0, 0.0), 0.0);
+  const auto r = rig.driver->driveFootprint({3.5, 2.0}, 0.0);
+  ASSERT_EQ(r.outcome, DriveOutcome::Blocked) << r.message;
+  ASSERT_NE(r.message.find("inside the footprint at the waypoint"), std::string::npos) << r.message;
+  EXPECT_EQ(rig.collisions(), 0u);
+  ASSERT_FALSE(r.blocking_points.empty());
+  for (const auto& q : r.blocking_points)
+  {
+    EXPECT_LE(std::abs(q.x() - 3.5), 0.6 + 1e-6) << q.transpose();
+    EXPECT_LE(std::abs(q.y() - 2.0), 0.356 + 1e-6) << q.transpose();
+    EXPECT_GE(q.x(), 3.9) << "not at a door post: " << q.transpose();  // the wall's face: 3.925
+    EXPECT_GE(std::abs(q.y() - 2.0), 0.34) << "not at a door post: " << q.transpose();
+  }
 }
 
 TEST(StopAndScanDriver, AFootprintDriveStartingAtTheGuardsMarginBacksOffFirst)

@@ -200,3 +200,23 @@ TEST(Planner, AllFrontiersSkippedSaysWhy)
   ASSERT_TRUE(ok.ok()) << ok.message;
   EXPECT_TRUE(ok.skip_reasons.empty());
 }
+
+TEST(Planner, SensedObstaclesTheMapDoesNotHoldCloseTheWay)
+{
+  // The driver sensed points in the doorway (an obstacle under the
+  // projection's z_min, or the map off by a pose error): their cells are
+  // Occupied for the planner, which then has no way to the frontier beyond.
+  const auto V = doorRoom();
+  const CPose2D robot(-1.5, 0.0, 0.0);
+  ASSERT_TRUE(plan(V, robot, params()).ok());
+  std::vector<Eigen::Vector2d> sensed;
+  for (double y = -0.9; y <= 0.9 + 1e-9; y += 0.05) sensed.emplace_back(2.6, y);
+  sensed.emplace_back(robot.x(), robot.y());  // never the robot's own cell
+  const auto r = plan(V, robot, params(), {}, 0, {}, sensed);
+  EXPECT_FALSE(r.ok()) << r.message;
+  Cell c;
+  ASSERT_TRUE(cellOf(r.ground->state, Eigen::Vector2d(2.6, 0.0), c));
+  EXPECT_EQ(*r.ground->state.cellByIndex(c.cx, c.cy), GroundState::Occupied);
+  EXPECT_NE(*r.ground->state.cellByIndex(r.ground->robot.cx, r.ground->robot.cy),
+            GroundState::Occupied);
+}

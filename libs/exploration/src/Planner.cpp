@@ -218,11 +218,18 @@ std::string skipSummary(const std::vector<SkipReason>& reasons)
 PlanResult plan(
     const octomap::OcTree& V, const CPose2D& robot, const PlannerParams& p,
     const std::vector<Eigen::Vector2d>& blacklist, uint64_t step,
-    const SweptPath& swept)
+    const SweptPath& swept, const std::vector<Eigen::Vector2d>& sensed_obstacles)
 {
   PlanResult r;
   mrpt::system::CTicTac total, tic;
   auto ground = std::make_shared<GroundGrid>(projectToGround(V, robot, p.projection, swept));
+  for (const Eigen::Vector2d& q : sensed_obstacles)
+  {
+    Cell c;
+    if (!cellOf(ground->state, q, c) || (c.cx == ground->robot.cx && c.cy == ground->robot.cy))
+      continue;
+    *ground->state.cellByIndex(c.cx, c.cy) = GroundState::Occupied;
+  }
   r.ms.projection = 1e3 * tic.Tac();
   tic.Tic();
   auto space = std::make_shared<CollisionSpace>(computeCollisionSpace(*ground, p.collision));

@@ -170,7 +170,7 @@ void ExplorationLoop::loop()
     }
     mrpt::system::CTicTac tic;
     const auto plan = exploration::plan(slam_.octomap().tree(), slam_.currentPose(), planner_,
-                                        blacklist_, step, swept_);
+                                        blacklist_, step, swept_, sensed_obstacles_);
     const double plan_s = tic.Tac();
     status_.compute_s += plan_s;
     status_.steps = step + 1;
@@ -250,6 +250,7 @@ bool ExplorationLoop::driveWaypoints(const exploration::PlanResult& plan)
     scanAndIntegrate();
     if (!r.reached())
     {
+      rememberObstacles(r.blocking_points);
       status_.failed_drives++;
       message("waypoint " + std::to_string(i + 1) + "/" + std::to_string(wps.size()) + " (" +
               mrpt::format("%.2f, %.2f", wps[i].x(), wps[i].y()) +
@@ -297,6 +298,27 @@ void ExplorationLoop::registerPlan(const Eigen::Vector2d& target)
             std::to_string(params_.max_plans_per_target) +
             " times without being explored: blacklisted");
   }
+}
+
+void ExplorationLoop::rememberObstacles(const std::vector<Eigen::Vector2d>& points)
+{
+  // One point per 5 cm cell: a drive blocked again at the same place adds nothing.
+  constexpr double kCell = 0.05;
+  std::size_t added = 0;
+  for (const auto& q : points)
+  {
+    const Eigen::Vector2d key(std::floor(q.x() / kCell), std::floor(q.y() / kCell));
+    const bool known = std::any_of(sensed_obstacles_.begin(), sensed_obstacles_.end(),
+                                   [&](const Eigen::Vector2d& o) {
+                                     return std::floor(o.x() / kCell) == key.x() &&
+                                            std::floor(o.y() / kCell) == key.y();
+                                   });
+    if (known) continue;
+    sensed_obstacles_.push_back(q);
+    ++added;
+  }
+  if (added)
+    message(std::to_string(added) + " sensed point(s) in the way the map did not hold: occupied for the planner");
 }
 
 void ExplorationLoop::noteFrontiers(const exploration::PlanResult& plan)

@@ -40,23 +40,36 @@ DriveResult StopAndScanDriver::driveFootprint(const Eigen::Vector2d& waypoint, d
   // points, kHysteresis steps in a row.
   constexpr int kHysteresis = 3;
   int blocked_steps = 0;
+  std::vector<Eigen::Vector2d> blocking;
   const double hl = 0.5 * params_.footprint_length_m, hw = 0.5 * params_.footprint_width_m;
   const WayCheck rectangle_at_goal = [&](const std::vector<Eigen::Vector2d>& points, double tx,
                                          double ty, const CPose2D& p) -> Ending
   {
     const double dyaw = mrpt::math::wrapToPi(yaw_rad - p.phi());
-    const double at_goal = rectangleClearance(points, hl, hw, CPose2D(tx, ty, dyaw));
+    const CPose2D at(tx, ty, dyaw);
+    const double at_goal = rectangleClearance(points, hl, hw, at);
     blocked_steps = at_goal <= 0 ? blocked_steps + 1 : 0;
     if (blocked_steps < kHysteresis) return std::nullopt;
+    for (const auto& q : points)
+    {
+      double u, v;
+      at.inverseComposePoint(q.x(), q.y(), u, v);
+      if (std::abs(u) > hl || std::abs(v) > hw) continue;
+      double mx, my;
+      p.composePoint(q.x(), q.y(), mx, my);
+      blocking.emplace_back(mx, my);
+    }
     return {{DriveOutcome::Blocked,
              "a sensed obstacle point lies inside the footprint at the waypoint"}};
   };
-  const DriveResult tr = straightDrive(waypoint, yaw_rad, rectangle_at_goal);
+  DriveResult tr = straightDrive(waypoint, yaw_rad, rectangle_at_goal);
+  tr.blocking_points = std::move(blocking);
   if (turned)
   {
     appendDrive(res, tr, "");
     res.outcome = tr.outcome;
     res.guard_held = tr.guard_held;
+    res.blocking_points = tr.blocking_points;
   }
   else
     res = tr;

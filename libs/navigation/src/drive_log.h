@@ -115,6 +115,7 @@ inline void prependDrive(const DriveResult& pre, DriveResult& r)
   out.outcome = r.outcome;
   out.guard_held = r.guard_held;
   out.goal_distance_m = r.goal_distance_m;
+  out.blocking_points = std::move(r.blocking_points);
   r = out;
 }
 

@@ -114,10 +114,13 @@ struct PlanResult
 ///        params.seed and the step counter passed in.
 /// @param swept points the robot's centre has swept (map frame; see
 ///        ProjectionParams::swept_radius_m)
+/// @param sensed_obstacles points (map frame) the driver sensed in the way
+///        that V may not hold (below the projection's z_min, a pose error):
+///        their cells of G are Occupied (not the robot's own)
 PlanResult plan(
     const octomap::OcTree& V, const mrpt::poses::CPose2D& robot, const PlannerParams& params,
     const std::vector<Eigen::Vector2d>& blacklist = {}, uint64_t step = 0,
-    const SweptPath& swept = {});
+    const SweptPath& swept = {}, const std::vector<Eigen::Vector2d>& sensed_obstacles = {});
 
 /// @brief PNG of G with its layers in the thesis' colours (fig. 4.12): free
 ///        white, occupied black, unknown red, collision grey, maybe-collision

@@ -206,6 +206,9 @@ class ExplorationLoop
   /// Counts a plan for the frontier at `target`; blacklists it after max_plans_per_target.
   void registerPlan(const Eigen::Vector2d& target);
   void addSwept(const mrpt::poses::CPose2D& e);
+  /// Keeps the points a drive was blocked by (DriveResult::blocking_points):
+  /// the planner marks them occupied from the next step on.
+  void rememberObstacles(const std::vector<Eigen::Vector2d>& points);
   /// The plan's frontiers and known floor into status_ (and known_floor_).
   void noteFrontiers(const exploration::PlanResult& plan);
   /// The stagnation rule (ExplorationLoopParams::stagnation_steps).
@@ -234,6 +237,8 @@ class ExplorationLoop
   TargetCounts plans_;     ///< plans so far per frontier
   exploration::SweptPath swept_;
   std::vector<double> known_floor_;  ///< known_floor_m2 at each planning step
+  /// Points drives were blocked by that the map may not hold (map frame).
+  std::vector<Eigen::Vector2d> sensed_obstacles_;
   ExplorationStatus status_;
 };
 

@@ -45,6 +45,11 @@ struct DriveResult
   std::size_t collisions = 0;       ///< new collisions the robot reported (0 without a bumper)
   std::string message;              ///< why it ended, for the user
   bool guard_held = false;          ///< the footprint guard held the robot and so ended it (Blocked)
+  /// driveFootprint() Blocked because sensed points lay inside the rectangle
+  /// at the waypoint: those points (map frame, the pose() frame). The map may
+  /// not hold them (below the projection's z_min, or a pose error): the
+  /// exploration loop marks them occupied for the planner.
+  std::vector<Eigen::Vector2d> blocking_points;
 
   bool reached() const { return outcome == DriveOutcome::Reached; }
 };
