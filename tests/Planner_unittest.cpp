@@ -220,3 +220,28 @@ TEST(Planner, SensedObstaclesTheMapDoesNotHoldCloseTheWay)
   EXPECT_NE(*r.ground->state.cellByIndex(r.ground->robot.cx, r.ground->robot.cy),
             GroundState::Occupied);
 }
+
+TEST(Planner, AReplannedFrontierIsApproachedNotViewedAgain)
+{
+  // Next-best-view targets see the frontier from 1-3 m; a frontier planned
+  // before whose view did not clear it is approached: the target is its
+  // nearest reachable cell (a narrow opening's far side is seen from there).
+  const auto V = doorRoom();
+  const CPose2D robot(-1.5, 0.0, 0.0);
+  const auto viewed = plan(V, robot, params());
+  ASSERT_TRUE(viewed.ok()) << viewed.message;
+  ASSERT_TRUE(viewed.frontier);
+  EXPECT_FALSE(viewed.approached);
+  const Eigen::Vector2d fc = viewed.frontier->center;
+  const Eigen::Vector2d t1(viewed.target.x(), viewed.target.y());
+  EXPECT_GE((t1 - fc).norm(), 1.0 - 0.05);
+  const auto approached = plan(V, robot, params(), {}, 0, {}, {}, {fc});
+  ASSERT_TRUE(approached.ok()) << approached.message;
+  EXPECT_TRUE(approached.approached);
+  const Eigen::Vector2d t2(approached.target.x(), approached.target.y());
+  EXPECT_LT((t2 - fc).norm(), 0.6) << t2.transpose();
+  // The nearest strategy is not affected (its target is the nearest cell anyway).
+  PlannerParams nearest = params();
+  nearest.strategy = Strategy::NearestFrontier;
+  EXPECT_FALSE(plan(V, robot, nearest, {}, 0, {}, {}, {fc}).approached);
+}

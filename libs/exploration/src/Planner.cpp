@@ -115,16 +115,17 @@ double yawTowards(const Eigen::Vector2d& from, const Eigen::Vector2d& to)
 /// best candidate that has one. Fills r on success; else returns why not.
 std::optional<SkipReason> tryFrontier(
     const octomap::OcTree& V, const CPose2D& robot, const PlannerParams& p, std::size_t fi,
-    uint64_t step, PlanResult& r, std::vector<float>& footprint_cost)
+    uint64_t step, PlanResult& r, std::vector<float>& footprint_cost, bool approach)
 {
   const Frontier& f = r.frontiers->frontiers[fi];
   const Eigen::Vector2d start(robot.x(), robot.y());
   std::vector<CPose2D> candidates;
   mrpt::system::CTicTac tic;
-  if (p.strategy == Strategy::NearestFrontier)
+  r.approached = approach && p.strategy == Strategy::NextBestView;
+  if (p.strategy == Strategy::NearestFrontier || r.approached)
   {
     std::optional<Eigen::Vector2d> goal;
-    if (r.footprint && p.sampling.view_standoff_m > 0)
+    if (r.footprint && p.sampling.view_standoff_m > 0 && !r.approached)
     {
       // A viewing stand-off (SamplingParams::view_standoff_m): the ring of
       // reachable cells that see the frontier, the one nearest its centre.
@@ -218,7 +219,8 @@ std::string skipSummary(const std::vector<SkipReason>& reasons)
 PlanResult plan(
     const octomap::OcTree& V, const CPose2D& robot, const PlannerParams& p,
     const std::vector<Eigen::Vector2d>& blacklist, uint64_t step,
-    const SweptPath& swept, const std::vector<Eigen::Vector2d>& sensed_obstacles)
+    const SweptPath& swept, const std::vector<Eigen::Vector2d>& sensed_obstacles,
+    const std::vector<Eigen::Vector2d>& approach)
 {
   PlanResult r;
   mrpt::system::CTicTac total, tic;
@@ -303,13 +305,18 @@ PlanResult plan(
       r.message = os.str();
       break;
     }
-    const auto why = tryFrontier(V, robot, p, *fi, step, r, footprint_cost);
+    const Eigen::Vector2d fc = fm->frontiers[*fi].center;
+    const bool near_approach = std::any_of(approach.begin(), approach.end(), [&](const Eigen::Vector2d& a) {
+      return (a - fc).norm() <= p.sampling.blacklist_radius_m;
+    });
+    const auto why = tryFrontier(V, robot, p, *fi, step, r, footprint_cost, near_approach);
     if (!why)
     {
       std::ostringstream os;
       os << "frontier " << *fi << " (" << r.frontier->size_m << " m, " << r.frontier->distance_m
-         << " m away): target (" << r.target.x() << ", " << r.target.y() << "), path "
-         << r.path->length_m << " m in " << r.waypoints.size() << " waypoints";
+         << " m away" << (r.approached ? ", approached" : "") << "): target (" << r.target.x()
+         << ", " << r.target.y() << "), path " << r.path->length_m << " m in "
+         << r.waypoints.size() << " waypoints";
       r.message = os.str();
       break;
     }

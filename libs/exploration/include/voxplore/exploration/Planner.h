@@ -103,6 +103,7 @@ struct PlanResult
   std::shared_ptr<const FrontierMap> frontiers;
   std::shared_ptr<const FootprintSpace> footprint;  ///< [collision] model = footprint only
   std::vector<Cell> sample_space;
+  bool approached = false;  ///< next-best-view: the chosen frontier was approached (plan()'s `approach`)
   /// frontier_order = tour (next-best-view): the tour over the tier the
   /// chosen frontier was taken from (empty otherwise).
   FrontierTour tour;
@@ -117,10 +118,15 @@ struct PlanResult
 /// @param sensed_obstacles points (map frame) the driver sensed in the way
 ///        that V may not hold (below the projection's z_min, a pose error):
 ///        their cells of G are Occupied (not the robot's own)
+/// @param approach next-best-view: a frontier whose centre lies within
+///        blacklist_radius_m of one of these (planned before, and its view
+///        did not clear it) is approached instead: the target is its
+///        nearest reachable cell, as the nearest strategy's
 PlanResult plan(
     const octomap::OcTree& V, const mrpt::poses::CPose2D& robot, const PlannerParams& params,
     const std::vector<Eigen::Vector2d>& blacklist = {}, uint64_t step = 0,
-    const SweptPath& swept = {}, const std::vector<Eigen::Vector2d>& sensed_obstacles = {});
+    const SweptPath& swept = {}, const std::vector<Eigen::Vector2d>& sensed_obstacles = {},
+    const std::vector<Eigen::Vector2d>& approach = {});
 
 /// @brief PNG of G with its layers in the thesis' colours (fig. 4.12): free
 ///        white, occupied black, unknown red, collision grey, maybe-collision
