@@ -129,6 +129,11 @@ TEST(FrontierTour, MeasuresTravelRoundWallsNotStraightLines)
   freeBox(reach, 7.9, 8.3, 3.7, 8.3);
   FrontierMap fm;
   fm.reachable = reach;
+  const float unreached = -1.f;
+  fm.distance_m.setSize(-0.5, 9.5, -0.5, 9.5, 0.05, &unreached);
+  auto d = fm.distance_m.begin();
+  for (auto r = reach.begin(); r != reach.end(); ++r, ++d)
+    if (*r) *d = 0.f;  // reached (the value is not used)
   fm.frontiers = {frontierAt(5.0, 1.0), frontierAt(1.0, 3.5)};
   Cell robot;
   ASSERT_TRUE(cellOf(reach, Eigen::Vector2d(3.0, 1.0), robot));

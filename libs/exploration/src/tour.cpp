@@ -20,10 +20,13 @@ namespace
 /// could look better by rounding both ways, and the local search cycled).
 constexpr double kUnreached = 1e5;
 
-/// Blocks of k x k cells of the reachable grid; a block is passable when a
-/// cell of it is reachable. Reachable cells either side of a wall are at
-/// least two collision radii plus the wall apart (>= 0.5 m for every robot
-/// profile), so blocks up to 20 cm never join two sides of a wall.
+/// Blocks of k x k cells; a block is passable when the robot's BFS reached a
+/// cell of it (FrontierMap::distance_m >= 0: the reachable cells and the
+/// band beyond them where frontiers lie; with fm.reachable alone a frontier
+/// in that band was cut off from the robot: 8 of 9 stops on b5). Reached
+/// cells either side of a wall are at least two collision radii plus the
+/// wall apart (>= 0.5 m for every robot profile), so blocks up to 20 cm never
+/// join two sides of a wall.
 struct Blocks
 {
   int k = 1, nx = 0, ny = 0;
@@ -33,20 +36,20 @@ struct Blocks
   int of(const Cell& c) const { return c.cx / k + (c.cy / k) * nx; }
 };
 
-Blocks blocksOf(const Grid<uint8_t>& reachable, double cell_m)
+Blocks blocksOf(const Grid<float>& distance, double cell_m)
 {
   Blocks b;
-  const double res = reachable.getResolution();
+  const double res = distance.getResolution();
   b.k = std::max(1, static_cast<int>(std::lround(cell_m / res)));
-  const int fx = static_cast<int>(reachable.getSizeX()), fy = static_cast<int>(reachable.getSizeY());
+  const int fx = static_cast<int>(distance.getSizeX()), fy = static_cast<int>(distance.getSizeY());
   b.nx = (fx + b.k - 1) / b.k;
   b.ny = (fy + b.k - 1) / b.k;
   b.step_m = b.k * res;
   b.passable.assign(static_cast<std::size_t>(b.nx) * b.ny, 0);
-  const auto& r = reachable.data();
+  const auto& r = distance.data();
   for (int y = 0; y < fy; ++y)
     for (int x = 0; x < fx; ++x)
-      if (r[static_cast<std::size_t>(x) + static_cast<std::size_t>(y) * fx])
+      if (r[static_cast<std::size_t>(x) + static_cast<std::size_t>(y) * fx] >= 0)
         b.passable[static_cast<std::size_t>(x / b.k) + static_cast<std::size_t>(y / b.k) * b.nx] = 1;
   return b;
 }
@@ -204,12 +207,12 @@ FrontierTour frontierTour(const FrontierMap& fm, const Cell& robot,
 {
   FrontierTour t;
   if (nodes.empty()) return t;
-  const Blocks b = blocksOf(fm.reachable, cell_m);
+  const Blocks b = blocksOf(fm.distance_m, cell_m);
   Blocks open = b;
   std::vector<int> at;  // block of the robot, then of each node's centre
   auto blockOf = [&](const Eigen::Vector2d& p) {
     Cell c;
-    if (!cellOf(fm.reachable, p, c)) c = robot;
+    if (!cellOf(fm.distance_m, p, c)) c = robot;
     return b.of(c);
   };
   at.push_back(b.of(robot));

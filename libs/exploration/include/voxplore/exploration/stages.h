@@ -242,7 +242,8 @@ std::vector<int> openTour(const std::vector<std::vector<double>>& d);
 
 /// @brief The tour from the robot's cell through the centres of the
 ///        frontiers `nodes` (indices into fm.frontiers), on travel costs over
-///        fm.reachable in blocks of about cell_m (Dijkstra, 8-connected).
+///        the cells the robot's BFS reached (fm.distance_m >= 0) in blocks of
+///        about cell_m (Dijkstra, 8-connected).
 ///        Frontiers not connected to the robot cost 1e5 m and come last.
 FrontierTour frontierTour(const FrontierMap& fm, const Cell& robot,
                           const std::vector<std::size_t>& nodes, double cell_m);

@@ -1,0 +1,151 @@
+// The frontier tour (issue 12): the tour alone and a whole planning step
+// with frontier_order = nearest and = tour, the compact robot (the thesis'
+// circle) on a building map. Target: the whole step under 100 ms median on
+// one core on a 500 m^2 map (run under taskset -c 1, Release).
+//
+// Map: --map=<file.bt> (a voxplore-explore map.bt), robot pose --pose=x,y,yaw_deg,
+// planner settings --config=<ini> (config/explore.ini).
+#include <benchmark/benchmark.h>
+#include <mrpt/config/CConfigFile.h>
+#include <mrpt/core/bits_math.h>
+#include <octomap/OcTree.h>
+#include <voxplore/common/camera_mounts.h>
+#include <voxplore/exploration/Planner.h>
+
+#include <cmath>
+#include <cstdio>
+#include <cstring>
+#include <iostream>
+#include <memory>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+using namespace voxplore::exploration;
+
+namespace
+{
+std::string g_map_path, g_config_path;
+double g_x = 0, g_y = 0, g_yaw = 0;
+
+struct Fixture
+{
+  std::unique_ptr<octomap::OcTree> tree;
+  mrpt::poses::CPose2D robot;
+  PlannerParams params;
+  GroundGrid ground;
+  CollisionSpace space;
+  FrontierMap fm;
+  std::vector<std::size_t> tier1;
+};
+
+const Fixture& fixture()
+{
+  static std::unique_ptr<Fixture> f;
+  if (f) return *f;
+  f = std::make_unique<Fixture>();
+  f->tree = std::make_unique<octomap::OcTree>(g_map_path);
+  if (f->tree->size() == 0) throw std::runtime_error("bench_tour: empty map " + g_map_path);
+  f->robot = mrpt::poses::CPose2D(g_x, g_y, mrpt::DEG2RAD(g_yaw));
+  // The compact robot, as voxplore-explore --robot compact sets it up.
+  constexpr double kLength = 0.50, kWidth = 0.36;
+  f->params.collision.r_coll_m = std::hypot(kLength / 2, kWidth / 2);
+  f->params.collision.footprint_length_m = kLength;
+  f->params.collision.footprint_width_m = kWidth;
+  if (!g_config_path.empty())
+  {
+    mrpt::config::CConfigFile ini(g_config_path);
+    f->params.load(ini);
+  }
+  f->params.projection.footprint_length_m = kLength;
+  f->params.projection.footprint_width_m = kWidth;
+  f->params.rating.mounts = voxplore::common::cameraRing(kLength, kWidth, 0.60, mrpt::DEG2RAD(30.0));
+  f->ground = projectToGround(*f->tree, f->robot, f->params.projection);
+  f->space = computeCollisionSpace(f->ground, f->params.collision);
+  f->fm = findFrontiers(f->ground, f->space);
+  double free_m2 = 0;
+  for (const auto s : f->ground.state.data())
+    free_m2 += s == GroundState::Free ? f->ground.state.getResolution() * f->ground.state.getResolution() : 0.0;
+  for (std::size_t i = 0; i < f->fm.frontiers.size(); ++i)
+    if (f->fm.frontiers[i].size_m > f->params.sampling.th_f1_m) f->tier1.push_back(i);
+  std::cerr << "bench_tour: " << g_map_path << ": grid " << f->ground.state.getSizeX() << " x "
+            << f->ground.state.getSizeY() << ", free floor " << free_m2 << " m^2, "
+            << f->fm.frontiers.size() << " frontiers, " << f->tier1.size() << " longer than "
+            << f->params.sampling.th_f1_m << " m\n";
+  return *f;
+}
+
+void BM_Tour(benchmark::State& st)
+{
+  const Fixture& f = fixture();
+  double len = 0;
+  for (auto _ : st) len = frontierTour(f.fm, f.ground.robot, f.tier1, f.params.tour_cell_m).length_m;
+  st.counters["stops"] = static_cast<double>(f.tier1.size());
+  st.counters["length_m"] = len;
+}
+
+void planStep(benchmark::State& st, FrontierOrder order)
+{
+  const Fixture& f = fixture();
+  PlannerParams p = f.params;
+  p.strategy = Strategy::NextBestView;
+  p.frontier_order = order;
+  PlanTimings last;
+  for (auto _ : st)
+  {
+    const PlanResult r = plan(*f.tree, f.robot, p);
+    last = r.ms;
+    benchmark::DoNotOptimize(r.ok());
+  }
+  st.counters["tour_ms"] = last.tour;
+  st.counters["rating_ms"] = last.rating;
+}
+
+void BM_PlanStepNearestOrder(benchmark::State& st) { planStep(st, FrontierOrder::Nearest); }
+void BM_PlanStepTour(benchmark::State& st) { planStep(st, FrontierOrder::Tour); }
+
+BENCHMARK(BM_Tour)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_PlanStepNearestOrder)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_PlanStepTour)->Unit(benchmark::kMillisecond);
+}  // namespace
+
+int main(int argc, char** argv)
+{
+  std::vector<char*> args;
+  for (int i = 0; i < argc; ++i)
+  {
+    if (std::strncmp(argv[i], "--map=", 6) == 0)
+      g_map_path = argv[i] + 6;
+    else if (std::strncmp(argv[i], "--config=", 9) == 0)
+      g_config_path = argv[i] + 9;
+    else if (std::strncmp(argv[i], "--pose=", 7) == 0)
+    {
+      if (std::sscanf(argv[i] + 7, "%lf,%lf,%lf", &g_x, &g_y, &g_yaw) != 3)
+      {
+        std::cerr << "bench_tour: --pose=x,y,yaw_deg expected, got '" << argv[i] + 7 << "'\n";
+        return 2;
+      }
+    }
+    else
+      args.push_back(argv[i]);
+  }
+  if (g_map_path.empty())
+  {
+    std::cerr << "bench_tour: --map=<map.bt> is required (a voxplore-explore run's map.bt), "
+                 "--pose=x,y,yaw_deg inside it, and --config=config/explore.ini\n";
+    return 2;
+  }
+  int n = static_cast<int>(args.size());
+  benchmark::Initialize(&n, args.data());
+  try
+  {
+    fixture();
+  }
+  catch (const std::exception& e)
+  {
+    std::cerr << "bench_tour: " << e.what() << "\n";
+    return 1;
+  }
+  benchmark::RunSpecifiedBenchmarks();
+  return 0;
+}
