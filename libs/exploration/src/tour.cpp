@@ -64,7 +64,11 @@ std::vector<double> costsFrom(const Blocks& b, int from, const std::vector<int>&
   std::vector<uint8_t> is_target(n, 0);
   std::size_t left = 0;
   for (const int t : targets)
-    if (!is_target[static_cast<std::size_t>(t)]++) ++left;
+    if (!is_target[static_cast<std::size_t>(t)])
+    {
+      is_target[static_cast<std::size_t>(t)] = 1;  // two stops in one block count once
+      ++left;
+    }
   using Item = std::pair<double, int>;
   std::priority_queue<Item, std::vector<Item>, std::greater<>> open;
   dist[static_cast<std::size_t>(from)] = 0;
