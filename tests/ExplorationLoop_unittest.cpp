@@ -412,9 +412,9 @@ TEST(ExplorationLoop, ARunThatFindsNoNewFloorEndsWithStagnation)
 {
   // The stagnation rule: with a gain no step can reach (1,000 m^2 over 2
   // steps) the run ends at the third planning step, by itself, the robot
-  // standing, the frontiers left reported. (The default rule, 2 m^2 over 20
-  // steps, lets ExploresTwoRoomsWithARobotOutsideTheSimulator end by "no
-  // frontier".)
+  // standing, the frontiers left reported. (Off by default: 20 steps cut a
+  // building run short; ExploresTwoRoomsWithARobotOutsideTheSimulator ends
+  // by "no frontier".)
   RobotSetup setup;
   setup.loop.stagnation_steps = 2;
   setup.loop.stagnation_min_gain_m2 = 1000.0;

@@ -105,7 +105,7 @@ struct ExplorationLoopParams : public mrpt::config::CLoadableOptions
   /// known in G grew by less than stagnation_min_gain_m2 over the last
   /// stagnation_steps planning steps (frontier slivers no pose clears, seen
   /// again and again); 0 = never.
-  int stagnation_steps = 20;
+  int stagnation_steps = 0;  ///< off by default: 20 cut b13 nbv (omniRob) from 0.843 to 0.594
   double stagnation_min_gain_m2 = 2.0;  ///< [m^2]
 
   void loadFromConfigFile(const mrpt::config::CConfigFileBase& c, const std::string& s) override;
