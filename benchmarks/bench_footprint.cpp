@@ -20,6 +20,8 @@
 #include <string>
 #include <vector>
 
+#include "bench_map_args.h"
+
 using namespace voxplore::exploration;
 
 namespace
@@ -152,28 +154,13 @@ BENCHMARK(BM_PathFootprintSharedHeuristic)->Unit(benchmark::kMillisecond);
 
 int main(int argc, char** argv)
 {
-  std::vector<char*> args;
-  for (int i = 0; i < argc; ++i)
-  {
-    if (std::strncmp(argv[i], "--map=", 6) == 0)
-      g_map_path = argv[i] + 6;
-    else if (std::strncmp(argv[i], "--pose=", 7) == 0)
-    {
-      if (std::sscanf(argv[i] + 7, "%lf,%lf,%lf", &g_x, &g_y, &g_yaw) != 3)
-      {
-        std::cerr << "bench_footprint: --pose=x,y,yaw_deg expected, got '" << argv[i] + 7 << "'\n";
-        return 2;
-      }
-    }
-    else
-      args.push_back(argv[i]);
-  }
-  if (g_map_path.empty())
-  {
-    std::cerr << "bench_footprint: --map=<map.bt> is required (e.g. a voxplore-explore run's "
-                 "map.bt of a generated building) and --pose=x,y,yaw_deg inside it\n";
-    return 2;
-  }
+  voxplore::bench::MapArgs a;
+  if (!voxplore::bench::parseMapArgs(argc, argv, "bench_footprint", a)) return 2;
+  g_map_path = a.map;
+  g_x = a.x;
+  g_y = a.y;
+  g_yaw = a.yaw_deg;
+  std::vector<char*>& args = a.rest;
   int n = static_cast<int>(args.size());
   benchmark::Initialize(&n, args.data());
   try

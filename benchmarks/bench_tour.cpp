@@ -21,6 +21,8 @@
 #include <string>
 #include <vector>
 
+#include "bench_map_args.h"
+
 using namespace voxplore::exploration;
 
 namespace
@@ -111,30 +113,14 @@ BENCHMARK(BM_PlanStepTour)->Unit(benchmark::kMillisecond);
 
 int main(int argc, char** argv)
 {
-  std::vector<char*> args;
-  for (int i = 0; i < argc; ++i)
-  {
-    if (std::strncmp(argv[i], "--map=", 6) == 0)
-      g_map_path = argv[i] + 6;
-    else if (std::strncmp(argv[i], "--config=", 9) == 0)
-      g_config_path = argv[i] + 9;
-    else if (std::strncmp(argv[i], "--pose=", 7) == 0)
-    {
-      if (std::sscanf(argv[i] + 7, "%lf,%lf,%lf", &g_x, &g_y, &g_yaw) != 3)
-      {
-        std::cerr << "bench_tour: --pose=x,y,yaw_deg expected, got '" << argv[i] + 7 << "'\n";
-        return 2;
-      }
-    }
-    else
-      args.push_back(argv[i]);
-  }
-  if (g_map_path.empty())
-  {
-    std::cerr << "bench_tour: --map=<map.bt> is required (a voxplore-explore run's map.bt), "
-                 "--pose=x,y,yaw_deg inside it, and --config=config/explore.ini\n";
-    return 2;
-  }
+  voxplore::bench::MapArgs a;
+  if (!voxplore::bench::parseMapArgs(argc, argv, "bench_tour", a)) return 2;
+  g_map_path = a.map;
+  g_config_path = a.config;
+  g_x = a.x;
+  g_y = a.y;
+  g_yaw = a.yaw_deg;
+  std::vector<char*>& args = a.rest;
   int n = static_cast<int>(args.size());
   benchmark::Initialize(&n, args.data());
   try
