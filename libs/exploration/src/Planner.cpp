@@ -270,10 +270,7 @@ PlanResult plan(
     for (std::size_t i = 0; i < fm->frontiers.size(); ++i)
     {
       const Frontier& f = fm->frontiers[i];
-      if (f.size_m <= p.sampling.th_f2_m) continue;
-      if (std::any_of(blacklist.begin(), blacklist.end(), [&](const Eigen::Vector2d& b) {
-            return (b - f.center).norm() < p.sampling.blacklist_radius_m;
-          }))
+      if (f.size_m <= p.sampling.th_f2_m || nearAny(f.center, blacklist, p.sampling.blacklist_radius_m))
         continue;
       (f.size_m > p.sampling.th_f1_m ? tier1 : tier2).push_back(i);
     }

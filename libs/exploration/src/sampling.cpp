@@ -85,12 +85,13 @@ Window frontierWindow(const Frontier& f, int grow, int nx, int ny)
           std::min(ny, w.y1 + grow)};
 }
 
+}  // namespace
+
 bool nearAny(const Eigen::Vector2d& p, const std::vector<Eigen::Vector2d>& points, double r)
 {
   return std::any_of(points.begin(), points.end(),
                      [&](const Eigen::Vector2d& q) { return (p - q).norm() < r; });
 }
-}  // namespace
 
 void SamplingParams::loadFromConfigFile(const mrpt::config::CConfigFileBase& c,
                                         const std::string& s)

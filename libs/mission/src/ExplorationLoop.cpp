@@ -192,14 +192,12 @@ void ExplorationLoop::loop()
       status_.termination_reason = exploration::toString(plan.done);
       return;
     }
-    if (stagnated())
+    if (const auto gain = stagnationGain(); gain && *gain < params_.stagnation_min_gain_m2)
     {
       status_.termination_reason = "stagnation";
       message(mrpt::format("stagnation: %.1f m^2 of floor found in the last %d steps (< %.1f); "
                            "%zu frontier(s) left",
-                           known_floor_.back() - known_floor_[known_floor_.size() - 1 -
-                                                              static_cast<std::size_t>(params_.stagnation_steps)],
-                           params_.stagnation_steps, params_.stagnation_min_gain_m2,
+                           *gain, params_.stagnation_steps, params_.stagnation_min_gain_m2,
                            status_.frontiers_left.size()));
       return;
     }
@@ -346,12 +344,11 @@ void ExplorationLoop::noteFrontiers(const exploration::PlanResult& plan)
   known_floor_.push_back(status_.known_floor_m2);
 }
 
-bool ExplorationLoop::stagnated() const
+std::optional<double> ExplorationLoop::stagnationGain() const
 {
   const auto k = static_cast<std::size_t>(params_.stagnation_steps);
-  if (k == 0 || known_floor_.size() <= k) return false;
-  return known_floor_.back() - known_floor_[known_floor_.size() - 1 - k] <
-         params_.stagnation_min_gain_m2;
+  if (k == 0 || known_floor_.size() <= k) return std::nullopt;
+  return known_floor_.back() - known_floor_[known_floor_.size() - 1 - k];
 }
 
 void ExplorationLoop::addSwept(const mrpt::poses::CPose2D& e)

@@ -216,6 +216,9 @@ struct SamplingParams : public mrpt::config::CLoadableOptions
   void saveToConfigFile(mrpt::config::CConfigFileBase& c, const std::string& s) const override;
 };
 
+/// @brief Is p closer than r to one of `points` (a blacklisted target)?
+bool nearAny(const Eigen::Vector2d& p, const std::vector<Eigen::Vector2d>& points, double r);
+
 /// @brief thesis 4.5.4 "unknown border selection": index into frontiers of
 ///        the nearest frontier longer than th_f1, else longer than th_f2,
 ///        skipping `skip` (indices) and frontiers near a blacklisted point.

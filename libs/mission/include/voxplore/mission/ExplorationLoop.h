@@ -32,6 +32,7 @@
 #include <Eigen/Core>
 #include <cstddef>
 #include <memory>
+#include <optional>
 #include <string>
 #include <utility>
 #include <vector>
@@ -215,8 +216,9 @@ class ExplorationLoop
   void rememberObstacles(const std::vector<Eigen::Vector2d>& points);
   /// The plan's frontiers and known floor into status_ (and known_floor_).
   void noteFrontiers(const exploration::PlanResult& plan);
-  /// The stagnation rule (ExplorationLoopParams::stagnation_steps).
-  bool stagnated() const;
+  /// The free floor found over the last stagnation_steps planning steps
+  /// [m^2]; empty when the rule is off or the run is not that long yet.
+  std::optional<double> stagnationGain() const;
   void onRobotStep();
   void message(const std::string& line);
   /// The listener's stop reason, max_steps (only `between_steps`), or the
