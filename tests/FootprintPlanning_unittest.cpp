@@ -485,3 +485,43 @@ TEST(FootprintSpace, TheWayInStaysOpenWhereTheBodysEndWasInTheDoor)
                               kWidth / 2 - kRes));
     }
 }
+
+TEST(FootprintSpace, TheWayInStaysOpenWhereTheRobotDroveAtAYawOffItsBinsCentre)
+{
+  // b18, nbv: the robot drove through a door at 99.8 deg, in the bin whose
+  // centre is 101.25 deg. Tested only at the bin's centre, the body shrunk
+  // by a cell overlapped a post's squares where the robot had really
+  // passed, the chain of swept states broke in the door, and the run ended
+  // in the first room at 0.076. Here: 16 bins (11.25 deg), a 0.80 m door
+  // between the squares, the robot driving along its own axis at 5 deg (bin
+  // 0, centre 0 deg), its lower side 3.5 cm above the lower post.
+  GroundGrid g = makeGround(-3.2, 3.4, -1.7, 1.7, kRes, GroundState::Occupied);
+  paint(g, -3.0, 3.2, -1.5, 1.5, GroundState::Free);
+  paint(g, 0.0, 0.15, -1.5, -0.40, GroundState::Occupied);
+  paint(g, 0.0, 0.15, 0.40, 1.5, GroundState::Occupied);
+  paint(g, -3.0, -0.9, -1.5, 1.5, GroundState::Unknown);  // only the swept bins lead back
+  CollisionParams p = omniRob();
+  p.yaw_bins = 16;
+  const double yaw = 5.0 * M_PI / 180, y0 = -0.065;
+  SweptPath swept;
+  for (double x = -0.8; x <= 1.8 + 1e-9; x += 0.05) swept.emplace_back(x, y0 + x * std::tan(yaw), yaw);
+  // The precondition: at some swept cell the shrunk body at the bin's
+  // centre yaw (0) clips a post's square, at the yaw driven it clips none.
+  GroundGrid walls = g;
+  for (auto it = walls.state.begin(); it != walls.state.end(); ++it)
+    if (*it == GroundState::Unknown) *it = GroundState::Free;
+  bool centre_clips = false;
+  for (const auto& q : swept)
+  {
+    Cell c;
+    ASSERT_TRUE(cellOf(g.state, Eigen::Vector2d(q.x(), q.y()), c));
+    const double cx = g.state.idx2x(c.cx), cy = g.state.idx2y(c.cy);
+    ASSERT_FALSE(clipsAWall(walls, CPose2D(cx, cy, yaw), kLength / 2 - kRes, kWidth / 2 - kRes));
+    centre_clips = centre_clips ||
+                   clipsAWall(walls, CPose2D(cx, cy, 0.0), kLength / 2 - kRes, kWidth / 2 - kRes);
+  }
+  ASSERT_TRUE(centre_clips);
+  const CPose2D start(1.8, y0 + 1.8 * std::tan(yaw), yaw);
+  const Planned pl = footprintSpaceOf(g, start, p, swept);
+  EXPECT_TRUE(reachedAt(pl, -0.6, y0 - 0.6 * std::tan(yaw)));
+}

@@ -7,6 +7,7 @@
 #include "footprint_stamp.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <deque>
 #include <vector>
@@ -168,15 +169,29 @@ FootprintSpace computeFootprintSpace(
   if (!swept.empty())
   {
     const double sa = 0.5 * fs.length_m - res, sb = 0.5 * fs.width_m - res;
-    auto trust = [&](const Cell& c, YawMask bins) {
+    // The bins of `bins` the swept state at cell c may hold: those already
+    // turnable there, and the rest where the rectangle shrunk by a cell
+    // clears the occupied squares (never on an occupied cell), at the bin's
+    // centre yaw or, failing that, at the yaw the robot had there (`yaws`,
+    // the two swept samples' yaws): a robot that drove through a door at
+    // 99.8 deg overlapped the door post's squares at bin 18's 101.25 deg
+    // (the squares are up to a cell larger than the post, as large as the
+    // shrink), the swept chain broke in the door and the way back was closed
+    // (b18, omniRob, nbv: 'no reachable frontier' at 0.076 after 7 m).
+    auto trust = [&](const Cell& c, YawMask bins, const std::array<double, 2>& yaws) {
       if (c.cx < 0 || c.cy < 0 || c.cx >= nx || c.cy >= ny) return;
       const std::size_t i = static_cast<std::size_t>(c.cy) * nx + c.cx;
       if (occ[i]) return;
+      auto overlaps = [&](double yaw) {
+        return rectangleOverlaps(occ, nx, ny, res, c.cx, c.cy, yaw, sa, sb);
+      };
       for (YawMask rest = bins & ~clear_turn[i]; rest; rest &= rest - 1)
       {
         const YawMask bin = rest & (~rest + 1);
-        if ((blocked_occ[i] & bin) &&
-            rectangleOverlaps(occ, nx, ny, res, c.cx, c.cy, fs.binYaw(__builtin_ctzll(bin)), sa, sb))
+        const int k = __builtin_ctzll(bin);
+        if ((blocked_occ[i] & bin) && overlaps(fs.binYaw(k)) &&
+            std::none_of(yaws.begin(), yaws.end(),
+                         [&](double y) { return fs.binOf(y) == k && !overlaps(y); }))
           continue;
         clear_occ[i] |= bin;
         clear[i] |= bin;
@@ -185,11 +200,13 @@ FootprintSpace computeFootprintSpace(
     };
     Cell prev{-1, -1};
     YawMask prev_bin = 0;
+    double prev_yaw = 0;
     for (const auto& q : swept)
     {
       Cell c;
       if (!cellOf(like, Eigen::Vector2d(q.x(), q.y()), c)) continue;
       const YawMask bin = YawMask(1) << fs.binOf(q.z());
+      const std::array<double, 2> yaws{q.z(), prev.cx >= 0 ? prev_yaw : q.z()};
       if (prev.cx >= 0 && std::abs(c.cx - prev.cx) + std::abs(c.cy - prev.cy) <= 4)
       {
         // 4-connected walk from prev to c, x first.
@@ -197,17 +214,18 @@ FootprintSpace computeFootprintSpace(
         while (w.cx != c.cx)
         {
           w.cx += c.cx > w.cx ? 1 : -1;
-          trust(w, bin | prev_bin);
+          trust(w, bin | prev_bin, yaws);
         }
         while (w.cy != c.cy)
         {
           w.cy += c.cy > w.cy ? 1 : -1;
-          trust(w, bin | prev_bin);
+          trust(w, bin | prev_bin, yaws);
         }
       }
-      trust(c, bin | prev_bin);
+      trust(c, bin | prev_bin, yaws);
       prev = c;
       prev_bin = bin;
+      prev_yaw = q.z();
     }
   }
 
