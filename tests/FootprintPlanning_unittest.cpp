@@ -6,11 +6,15 @@
 #include <voxplore/exploration/footprint.h>
 
 #include <cmath>
+#include <fstream>
+#include <stdexcept>
+#include <string>
 #include <limits>
 #include <random>
 #include <vector>
 
 #include "exploration_test_maps.h"
+#include "test_worlds.h"
 
 using namespace voxplore::exploration;
 using mrpt::poses::CPose2D;
@@ -524,4 +528,68 @@ TEST(FootprintSpace, TheWayInStaysOpenWhereTheRobotDroveAtAYawOffItsBinsCentre)
   const CPose2D start(1.8, y0 + 1.8 * std::tan(yaw), yaw);
   const Planned pl = footprintSpaceOf(g, start, p, swept);
   EXPECT_TRUE(reachedAt(pl, -0.6, y0 - 0.6 * std::tan(yaw)));
+}
+
+namespace
+{
+/// A ground grid crop written from a real run (tests/data/*.txt: a comment
+/// line, "grid NX NY RES X0 Y0", "robot X Y YAW", NY rows of NX chars from
+/// the top, '.' free, 'O' occupied, 'U' unknown, then "sw X Y YAW" lines).
+struct GroundFixture
+{
+  GroundGrid g;
+  CPose2D robot;
+  SweptPath swept;
+};
+
+GroundFixture loadGroundFixture(const std::string& path)
+{
+  std::ifstream in(path);
+  if (!in) throw std::runtime_error("cannot open fixture '" + path + "'");
+  std::string line, tag;
+  std::getline(in, line);  // comment
+  int nx = 0, ny = 0;
+  double res = 0, x0 = 0, y0 = 0, x = 0, y = 0, yaw = 0;
+  in >> tag >> nx >> ny >> res >> x0 >> y0;
+  if (tag != "grid") throw std::runtime_error("fixture '" + path + "': 'grid' expected");
+  GroundFixture f;
+  f.g = makeGround(x0, x0 + nx * res, y0, y0 + ny * res, res, GroundState::Unknown);
+  in >> tag >> x >> y >> yaw;
+  f.robot = CPose2D(x, y, yaw);
+  for (int row = 0; row < ny; ++row)
+  {
+    in >> line;
+    if (static_cast<int>(line.size()) != nx) throw std::runtime_error("fixture '" + path + "': short row");
+    for (int cx = 0; cx < nx; ++cx)
+      *f.g.state.cellByIndex(cx, ny - 1 - row) = line[cx] == '.'   ? GroundState::Free
+                                                 : line[cx] == 'O' ? GroundState::Occupied
+                                                                   : GroundState::Unknown;
+  }
+  while (in >> tag >> x >> y >> yaw) f.swept.emplace_back(x, y, yaw);
+  return f;
+}
+}  // namespace
+
+TEST(FootprintSpace, ARobotThatReversedIntoADoorEscapesBothWays)
+{
+  // b11, omniRob, nearest (a real map): the robot reversed into a door
+  // (yaw -91 deg) and its last stop lay 3.5 cm past the swept path's last
+  // state, in open unknown's margin. Its own bin was not clear; the escape
+  // stopped at the first clear state, a bin that led a few cells into the
+  // room ahead and no further (not turnable), and the way back down the
+  // swept path was never tried: 3 cells reached, 'all frontiers skipped'
+  // at 0.71. The escape now goes on to turnable states.
+  GroundFixture f = loadGroundFixture(voxplore::test::sourceDir() +
+                                      "/tests/data/footprint_b11_reversed_into_door.txt");
+  ASSERT_GT(f.swept.size(), 50u);
+  const Planned pl = footprintSpaceOf(f.g, f.robot, omniRob(), f.swept);
+  // The precondition: the start was not clear in its own bin.
+  const std::size_t ri = static_cast<std::size_t>(pl.fs.robot.cy) * f.g.state.getSizeX() + pl.fs.robot.cx;
+  ASSERT_FALSE(pl.fs.clear.data()[ri] & (YawMask(1) << pl.fs.robot_bin));
+  // The corridor it came from (its middle, 1 m behind it; 2 m along it
+  // either way) and the room ahead.
+  EXPECT_TRUE(reachedAt(pl, f.robot.x(), f.robot.y() - 1.0));
+  EXPECT_TRUE(reachedAt(pl, f.robot.x() - 2.0, f.robot.y() - 1.0));
+  EXPECT_TRUE(reachedAt(pl, f.robot.x() + 2.0, f.robot.y() - 1.0));
+  EXPECT_TRUE(reachedAt(pl, f.robot.x(), f.robot.y() + 1.0));
 }

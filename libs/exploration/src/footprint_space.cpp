@@ -308,7 +308,13 @@ FootprintSpace computeFootprintSpace(
     esc_allowed[ri] |= own;
     escape[ri] = fs.turnClosure(own, esc_allowed[ri]);
     std::deque<int> q{static_cast<int>(ri)};
-    flood(fs, escape, esc_allowed.data(), esc_allowed.data(), q, nx, ny, clear);
+    // The escape goes on through clear states that are not turnable: a
+    // robot that had reversed into a door stood (3.5 cm past its swept
+    // path's last state) beside a clear bin whose states led a few cells
+    // into the room and no further; the escape stopped there, the way back
+    // was never tried, and 3 cells were reached (b11, omniRob, nearest:
+    // 'all frontiers skipped' at 0.71). Turnable states join the rest.
+    flood(fs, escape, esc_allowed.data(), esc_allowed.data(), q, nx, ny, clear_turn);
     // Seeds: the clear states the escape reached.
     for (std::size_t i = 0; i < n; ++i)
     {
@@ -317,7 +323,7 @@ FootprintSpace computeFootprintSpace(
       reach[i] = s | fs.turnClosure(s, clear_turn[i]);
       queue.push_back(static_cast<int>(i));
     }
-    // The escape keeps only what lies before the first clear state.
+    // The escape keeps only what is not clear.
     for (std::size_t i = 0; i < n; ++i) escape[i] &= ~clear[i];
   }
   flood(fs, reach, clear, clear_turn, queue, nx, ny);
