@@ -169,6 +169,9 @@ void CollisionParams::loadFromConfigFile(const mrpt::config::CConfigFileBase& c,
   MRPT_LOAD_CONFIG_VAR(footprint_square_share, double, c, s);
   common::requireValid(footprint_square_share >= 0 && footprint_square_share <= 1, c, s,
                        "footprint_square_share", "must be in [0, 1]");
+  MRPT_LOAD_CONFIG_VAR(footprint_bin_span, double, c, s);
+  common::requireValid(footprint_bin_span >= 0 && footprint_bin_span <= 1, c, s,
+                       "footprint_bin_span", "must be in [0, 1]");
   common::requireValid(footprint_margin_m >= 0, c, s, "footprint_margin_m", "must be >= 0");
   common::requireValid(footprint_turn_margin_m >= footprint_margin_m, c, s,
                        "footprint_turn_margin_m", "must be >= footprint_margin_m");
@@ -186,6 +189,7 @@ void CollisionParams::saveToConfigFile(mrpt::config::CConfigFileBase& c, const s
   MRPT_SAVE_CONFIG_VAR(footprint_turn_margin_m, c, s);
   MRPT_SAVE_CONFIG_VAR(yaw_bins, c, s);
   MRPT_SAVE_CONFIG_VAR(footprint_square_share, c, s);
+  MRPT_SAVE_CONFIG_VAR(footprint_bin_span, c, s);
 }
 
 CollisionSpace computeCollisionSpace(const GroundGrid& g, const CollisionParams& p)

@@ -121,7 +121,9 @@ FootprintSpace computeFootprintSpace(
 
   fs.turn_margin_m = std::max(p.footprint_turn_margin_m, p.footprint_margin_m);
   const double share = p.footprint_square_share;
-  const auto stamp = makeStamp(0.5 * fs.length_m, 0.5 * fs.width_m, fs.margin_m, res, fs.bins, share);
+  const double span = p.footprint_bin_span;
+  const auto stamp =
+      makeStamp(0.5 * fs.length_m, 0.5 * fs.width_m, fs.margin_m, res, fs.bins, share, span);
   const auto stamp_turn =
       makeStamp(0.5 * fs.length_m, 0.5 * fs.width_m, fs.turn_margin_m, res, fs.bins, share);
   std::vector<uint8_t> occ(n);
@@ -265,7 +267,7 @@ FootprintSpace computeFootprintSpace(
     {
       fs.escape_margin_m = -0.5 * k * res;
       esc_stamp =
-          makeStamp(0.5 * fs.length_m, 0.5 * fs.width_m, fs.escape_margin_m, res, fs.bins, share);
+          makeStamp(0.5 * fs.length_m, 0.5 * fs.width_m, fs.escape_margin_m, res, fs.bins, share, span);
       blocked = stampBlocks(esc_stamp, occ, nx, ny, g.robot.cx, g.robot.cy, own) != 0;
     }
     if (!esc_stamp.empty() && !blocked)

@@ -28,14 +28,14 @@ bool overlapModPi(double lo1, double hi1, double lo2, double hi2)
 }  // namespace
 
 std::vector<StampEntry> makeStamp(double a, double b, double margin, double res, int bins,
-                                  double square_share)
+                                  double square_share, double bin_span)
 {
-  const double h = 0.5 * res * square_share, delta = kPi / bins;
+  const double h = 0.5 * res * square_share, delta = kPi / bins, half = 0.5 * delta * bin_span;
   std::vector<double> ak(bins), bk(bins);
   double reach = 0;
   for (int k = 0; k < bins; ++k)
   {
-    const double lo = k * delta - 0.5 * delta, hi = k * delta + 0.5 * delta;
+    const double lo = k * delta - half, hi = k * delta + half;
     // max of |cos| + |sin| over [lo, hi]: sqrt(2) when a diagonal lies inside.
     double s = 0;
     for (int i = 0; i <= 16; ++i)
@@ -70,7 +70,7 @@ std::vector<StampEntry> makeStamp(double a, double b, double margin, double res,
         {
           const double phi1 = rho > ak[k] ? std::acos(ak[k] / rho) : 0.0;
           const double phi2 = rho > bk[k] ? std::asin(bk[k] / rho) : 0.5 * kPi;
-          const double lo = k * delta - 0.5 * delta, hi = k * delta + 0.5 * delta;
+          const double lo = k * delta - half, hi = k * delta + half;
           blocked = phi1 <= phi2 && (overlapModPi(lo, hi, alpha - phi2, alpha - phi1) ||
                                      overlapModPi(lo, hi, alpha + phi1, alpha + phi2));
         }

@@ -26,8 +26,10 @@ struct StampEntry
 /// against the rectangle grown by margin + that support: exact on the faces,
 /// conservative only round the corners. The blocked yaws of a point at
 /// (rho, alpha) are theta = alpha -+ phi with acos(a'/rho) <= phi <= asin(b'/rho).
+/// With bin_span < 1 only the yaws within bin_span times half the bin's
+/// width of its centre count (0: the centre yaw alone).
 std::vector<StampEntry> makeStamp(double a, double b, double margin, double res, int bins,
-                                  double square_share);
+                                  double square_share, double bin_span = 1.0);
 
 /// The cells of `src` with an 8-neighbour outside `src` (or on the grid
 /// border): a rectangle whose centre lies outside src and that overlaps a
