@@ -593,3 +593,32 @@ TEST(FootprintSpace, ARobotThatReversedIntoADoorEscapesBothWays)
   EXPECT_TRUE(reachedAt(pl, f.robot.x() + 2.0, f.robot.y() - 1.0));
   EXPECT_TRUE(reachedAt(pl, f.robot.x(), f.robot.y() + 1.0));
 }
+
+TEST(FootprintSpace, ABinSpanOfZeroKeepsTheMarginAtTheBinsCentreYawOnly)
+{
+  // 16 bins of 11.25 deg and a 0.85 m door between the wall squares (17
+  // cells, a cell centre in its middle): lengthwise at the bin's centre yaw
+  // (0 deg) the rectangle (0.712 m) has 6.9 cm a side, 4.9 cm past its 2 cm
+  // margin; over the whole bin the 1.2 m body's corners swing 5.9 cm.
+  // footprint_bin_span = 1 (the default) closes the door, 0 opens it.
+  // Turning in place keeps the turn margin over the whole bin either way.
+  GroundGrid g = makeGround(-3.2, 3.3, -1.7, 1.7, kRes, GroundState::Occupied);
+  paint(g, -3.0, 3.1, -1.5, 1.5, GroundState::Free);
+  paint(g, 0.0, 0.1, -1.5, -0.45, GroundState::Occupied);  // squares up to y = -0.45
+  paint(g, 0.0, 0.1, 0.40, 1.5, GroundState::Occupied);    // ... from y = 0.40
+  const CPose2D start(1.6, -0.025, 0.0);
+  CollisionParams p = omniRob();
+  p.yaw_bins = 16;
+  EXPECT_FALSE(reachedAt(footprintSpaceOf(g, start, p), -1.5, -0.025));
+  p.footprint_bin_span = 0.0;
+  const Planned open = footprintSpaceOf(g, start, p);
+  EXPECT_TRUE(reachedAt(open, -1.5, -0.025));
+  Cell door;
+  // The body's rear end in the door (where the swing counts).
+  ASSERT_TRUE(cellOf(open.fs.clear, Eigen::Vector2d(0.05 + 0.55, -0.025), door));
+  EXPECT_TRUE(*open.fs.clear.cellByIndex(door.cx, door.cy) & YawMask(1));
+  EXPECT_FALSE(*open.fs.clear_turn.cellByIndex(door.cx, door.cy) & YawMask(1));
+  const auto path = planFootprintPath(open.cs, open.fs, start, {-1.5, -0.025}, 0.0, PathParams{});
+  ASSERT_TRUE(path);
+  expectNeverClips(g, *path);
+}
