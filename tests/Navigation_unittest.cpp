@@ -786,6 +786,48 @@ TEST(StopAndScanDriver, AFootprintDriveBlockedAtItsWaypointSaysByWhichPoints)
   }
 }
 
+TEST(StopAndScanDriver, AFootprintWaypointOffTheDoorsMiddleIsCentredOnTheSensedJambs)
+{
+  // b13, omniRob, nbv: in a door with a few centimetres a side, the plan's
+  // waypoint lay 5 cm towards a jamb (the map and the swept path registered
+  // before a correction): the rectangle there held a jamb point, and every
+  // plan was blocked at its first waypoint. Here the waypoint is in a 0.85 m
+  // door, 8 cm off its middle (the body's top side 1.1 cm into the upper
+  // jamb, y 2.425). The drive moves it sideways onto what the sensors see,
+  // 3 cm or more from both jambs, and passes; without centring it is
+  // blocked by the jamb points.
+  const Vector2d wp(4.075, 2.08);
+  {
+    SimRig off("omnirob", twoRoomsWorld(0.85), mrpt::poses::CPose2D(3.0, 2.0, 0.0), 0.0,
+               [](DriverParams& p) { p.footprint_centring_m = 0; });
+    const auto r = off.driver->driveFootprint(wp, 0.0);
+    ASSERT_EQ(r.outcome, DriveOutcome::Blocked) << "control: " << r.message;
+    ASSERT_NE(r.message.find("inside the footprint at the waypoint"), std::string::npos) << r.message;
+    EXPECT_FALSE(r.blocking_points.empty());
+    EXPECT_EQ(off.collisions(), 0u);
+  }
+  auto cfg = sim::SimConfig::defaults("omnirob");
+  sim::Simulator simulator(sim::loadWorld(twoRoomsWorld(0.85), mrpt::poses::CPose2D(3.0, 2.0, 0.0)),
+                           cfg.robot, cfg.cameras, cfg.sim);
+  apps::SimRobot robot(simulator);
+  ClearanceProbe probe(robot, simulator, 0.02);
+  auto p = DriverParams::forFootprint(cfg.robot.length_m, cfg.robot.width_m);
+  p.max_v_mps = cfg.robot.max_v_mps;
+  p.max_w = cfg.robot.max_w;
+  StopAndScanDriver driver(probe, p);
+  const auto r = driver.driveFootprint(wp, 0.0);
+  std::cout << "[ centred waypoint ] " << toString(r.outcome) << ": " << r.message << std::endl;
+  ASSERT_EQ(r.outcome, DriveOutcome::Reached) << r.message;
+  EXPECT_NE(r.message.find("waypoint centred by"), std::string::npos) << r.message;
+  EXPECT_TRUE(r.blocking_points.empty());
+  const auto gt = simulator.robot().groundTruth();
+  EXPECT_NEAR(gt.x(), wp.x(), 0.1);
+  EXPECT_LE(gt.y() + 0.356, 2.425 - 0.03 + 0.005) << "3 cm from the upper jamb";
+  EXPECT_GE(gt.y() - 0.356, 1.575 + 0.03 - 0.005) << "3 cm from the lower jamb";
+  EXPECT_EQ(simulator.robot().collisions(), 0u);
+  EXPECT_EQ(probe.tooClose(), 0u) << "the footprint came within 2 cm of the world";
+}
+
 TEST(StopAndScanDriver, AFootprintDriveStartingAtTheGuardsMarginBacksOffFirst)
 {
   // The omniRob lengthwise in the 1.1 m corridor, its side 2.5 cm from the

@@ -46,6 +46,7 @@ void DriverParams::loadFromConfigFile(const mrpt::config::CConfigFileBase& c, co
   MRPT_LOAD_CONFIG_VAR(guard_horizon_s, double, c, s);
   MRPT_LOAD_CONFIG_VAR(guard_hold_s, double, c, s);
   MRPT_LOAD_CONFIG_VAR(footprint_backoff_m, double, c, s);
+  MRPT_LOAD_CONFIG_VAR(footprint_centring_m, double, c, s);
   MRPT_LOAD_CONFIG_VAR_DEGREES(yaw_tolerance, c, s);
   MRPT_LOAD_CONFIG_VAR(yaw_gain, double, c, s);
   MRPT_LOAD_CONFIG_VAR(rotate_timeout_s, double, c, s);
@@ -86,6 +87,8 @@ void DriverParams::loadFromConfigFile(const mrpt::config::CConfigFileBase& c, co
                "must be at least dt_s (a command is held for dt_s)");
   requireValid(guard_hold_s >= dt_s, c, s, "guard_hold_s", "must be at least dt_s");
   requireValid(footprint_backoff_m >= 0, c, s, "footprint_backoff_m", "must be >= 0");
+  requireValid(footprint_centring_m >= 0 && footprint_centring_m <= 0.5, c, s,
+               "footprint_centring_m", "must be in [0, 0.5]");
   requireValid(yaw_tolerance > 0, c, s, "yaw_tolerance", "must be positive");
   requireValid(yaw_gain > 0 && yaw_gain * dt_s < 2.0, c, s, "yaw_gain",
                "must be positive and below 2 / dt_s (else the rotation oscillates)");
@@ -136,6 +139,7 @@ void DriverParams::saveToConfigFile(mrpt::config::CConfigFileBase& c, const std:
   MRPT_SAVE_CONFIG_VAR(guard_horizon_s, c, s);
   MRPT_SAVE_CONFIG_VAR(guard_hold_s, c, s);
   MRPT_SAVE_CONFIG_VAR(footprint_backoff_m, c, s);
+  MRPT_SAVE_CONFIG_VAR(footprint_centring_m, c, s);
   MRPT_SAVE_CONFIG_VAR_DEGREES(yaw_tolerance, c, s);
   MRPT_SAVE_CONFIG_VAR(yaw_gain, c, s);
   MRPT_SAVE_CONFIG_VAR(rotate_timeout_s, c, s);

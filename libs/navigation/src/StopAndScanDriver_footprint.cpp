@@ -6,7 +6,10 @@
 #include <mrpt/math/wrap2pi.h>
 #include <voxplore/navigation/StopAndScanDriver.h>
 
+#include <mrpt/maps/CSimplePointsMap.h>
+
 #include <cmath>
+#include <optional>
 #include <vector>
 
 #include "FootprintGuard.h"
@@ -63,6 +66,33 @@ DriveResult StopAndScanDriver::driveFootprint(const Eigen::Vector2d& waypoint, d
              "a sensed obstacle point lies inside the footprint at the waypoint"}};
   };
   DriveResult tr = straightDrive(waypoint, yaw_rad, rectangle_at_goal);
+  // Blocked at the waypoint by points inside the rectangle there: the map
+  // (and the plan on it) may be off by a few centimetres where the body has
+  // centimetres to spare, in a door. Centre the waypoint on what the sensors
+  // see: move it sideways by the least amount up to footprint_centring_m that
+  // keeps the guard's margin from every sensed point, and drive once more
+  // (b13, omniRob, nbv: in a door with 4 cm a side, every plan's first
+  // waypoint lay on the swept path 5 cm towards a jamb, registered before a
+  // correction; 110 plans were blocked there and the run ended at 0.59).
+  if (tr.outcome == DriveOutcome::Blocked && !blocking.empty() && params_.footprint_centring_m > 0)
+  {
+    if (const auto centred = centredWaypoint(waypoint, yaw_rad))
+    {
+      std::vector<Eigen::Vector2d> first = std::move(blocking);
+      blocking.clear();
+      blocked_steps = 0;
+      DriveResult again = straightDrive(*centred, yaw_rad, rectangle_at_goal);
+      again.message = mrpt::format("waypoint centred by %.3f m: ", (*centred - waypoint).norm()) +
+                      again.message;
+      appendDrive(tr, again, "");
+      tr.outcome = again.outcome;
+      tr.guard_held = again.guard_held;
+      if (again.outcome != DriveOutcome::Blocked)
+        blocking.clear();
+      else if (blocking.empty())
+        blocking = std::move(first);
+    }
+  }
   tr.blocking_points = std::move(blocking);
   if (turned)
   {
@@ -77,6 +107,30 @@ DriveResult StopAndScanDriver::driveFootprint(const Eigen::Vector2d& waypoint, d
   turnAtWaypoint(res, final_yaw_rad);
   prependDrive(pre, res);
   return res;
+}
+
+std::optional<Eigen::Vector2d> StopAndScanDriver::centredWaypoint(const Eigen::Vector2d& waypoint,
+                                                                   double yaw_rad)
+{
+  mrpt::maps::CSimplePointsMap pts;
+  if (!robot_.obstacles(pts)) return std::nullopt;
+  std::vector<Eigen::Vector2d> band;
+  bandPoints(pts, params_.min_obstacle_height_m, params_.max_obstacle_height_m, band);
+  const CPose2D p = robot_.pose();
+  const double hl = 0.5 * params_.footprint_length_m, hw = 0.5 * params_.footprint_width_m;
+  const Eigen::Vector2d side(-std::sin(yaw_rad), std::cos(yaw_rad));
+  constexpr double kStep = 0.005;
+  const int steps = static_cast<int>(std::floor(params_.footprint_centring_m / kStep + 1e-9));
+  for (int k = 1; k <= steps; ++k)
+    for (const double sign : {1.0, -1.0})
+    {
+      const Eigen::Vector2d w = waypoint + sign * k * kStep * side;
+      double tx, ty;
+      p.inverseComposePoint(w.x(), w.y(), tx, ty);
+      const CPose2D at(tx, ty, mrpt::math::wrapToPi(yaw_rad - p.phi()));
+      if (rectangleClearance(band, hl, hw, at) >= params_.guard_margin_m) return w;
+    }
+  return std::nullopt;
 }
 
 }  // namespace voxplore::navigation

@@ -48,6 +48,7 @@ struct DriverParams : public mrpt::config::CLoadableOptions
   double guard_horizon_s = 0.3;   ///< a command must keep the margin when held this long [s]
   double guard_hold_s = 1.0;      ///< a drive the guard holds still this long ends Blocked [s]
   double footprint_backoff_m = 0.03;  ///< a drive starting within guard_margin_m + half this of a sensed point first backs the rectangle off to guard_margin_m + this (backOffFootprint) [m]; 0 = off
+  double footprint_centring_m = 0.06;  ///< a footprint drive blocked by sensed points inside the rectangle at its waypoint tries once more to the waypoint moved sideways (across the held yaw) by the least amount up to this that keeps guard_margin_m from every sensed point [m]; 0 = off
   // --- final rotation to the requested yaw (P-controller) ---
   double yaw_tolerance = mrpt::DEG2RAD(2.0);  ///< final yaw error accepted [rad] (ini: deg)
   double yaw_gain = 2.0;                      ///< turn rate per radian of yaw error [1/s]

@@ -144,6 +144,11 @@ class StopAndScanDriver
   /// @return Reached when clear (also when already clear), Blocked when it
   ///         could not get clear, Error on a sensor failure or collision.
   DriveResult backOffFootprint();
+  /// @brief The waypoint moved sideways (across yaw_rad) by the least
+  ///        multiple of 5 mm up to footprint_centring_m at which the
+  ///        rectangle in yaw_rad keeps guard_margin_m from every sensed
+  ///        obstacle point; nullopt when none does (or the sensors fail).
+  std::optional<Eigen::Vector2d> centredWaypoint(const Eigen::Vector2d& waypoint, double yaw_rad);
 
   const DriverParams& params() const { return params_; }
 
