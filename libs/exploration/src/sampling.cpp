@@ -25,8 +25,9 @@ constexpr std::size_t kMaxSightTargets = 32;
 
 /// Thesis fig. 4.15: 4-connected Bresenham walk from a to b (every cell the
 /// segment between the centres crosses; at an exact corner crossing it steps
-/// in y first). False when a cell after `a` is Occupied.
-bool lineOfSight(const Grid<GroundState>& g, const Cell& a, const Cell& b)
+/// in y first). False when a cell after `a` is Occupied, or Unknown with
+/// `unknown_blocks`.
+bool lineOfSight(const Grid<GroundState>& g, const Cell& a, const Cell& b, bool unknown_blocks)
 {
   const int nx = static_cast<int>(g.getSizeX());
   const GroundState* st = g.data().data();
@@ -46,7 +47,8 @@ bool lineOfSight(const Grid<GroundState>& g, const Cell& a, const Cell& b)
       y += sy;
       ++iy;
     }
-    if (st[x + y * nx] == GroundState::Occupied) return false;
+    const GroundState v = st[x + y * nx];
+    if (v == GroundState::Occupied || (unknown_blocks && v == GroundState::Unknown)) return false;
   }
   return true;
 }
@@ -104,6 +106,7 @@ void SamplingParams::loadFromConfigFile(const mrpt::config::CConfigFileBase& c,
   MRPT_LOAD_CONFIG_VAR(min_sample_dist_m, double, c, s);
   MRPT_LOAD_CONFIG_VAR(blacklist_radius_m, double, c, s);
   MRPT_LOAD_CONFIG_VAR(view_standoff_m, double, c, s);
+  MRPT_LOAD_CONFIG_VAR(sight_blocked_by_unknown, bool, c, s);
   using common::requireValid;
   requireValid(th_f2_m >= 0, c, s, "th_f2_m", "must be >= 0");
   requireValid(th_f1_m >= th_f2_m, c, s, "th_f1_m", "need th_f1_m >= th_f2_m");
@@ -126,6 +129,7 @@ void SamplingParams::saveToConfigFile(mrpt::config::CConfigFileBase& c, const st
   MRPT_SAVE_CONFIG_VAR(min_sample_dist_m, c, s);
   MRPT_SAVE_CONFIG_VAR(blacklist_radius_m, c, s);
   MRPT_SAVE_CONFIG_VAR(view_standoff_m, c, s);
+  MRPT_SAVE_CONFIG_VAR(sight_blocked_by_unknown, c, s);
 }
 
 std::optional<std::size_t> chooseFrontier(const std::vector<Frontier>& frontiers,
@@ -178,7 +182,9 @@ std::vector<Cell> sampleSpace(const GroundGrid& g, const CollisionSpace& cs, con
       if (d2 < lo2 || d2 > hi2 || !reachable[cx + cy * nx]) continue;
       const Cell c{cx, cy};
       const bool sees = std::any_of(targets.begin(), targets.end(),
-                                    [&](const Cell& t) { return lineOfSight(g.state, c, t); });
+                                    [&](const Cell& t) {
+                                      return lineOfSight(g.state, c, t, p.sight_blocked_by_unknown);
+                                    });
       if (sees) space.push_back(c);
     }
   }
