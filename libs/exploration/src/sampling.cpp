@@ -25,9 +25,11 @@ constexpr std::size_t kMaxSightTargets = 32;
 
 /// Thesis fig. 4.15: 4-connected Bresenham walk from a to b (every cell the
 /// segment between the centres crosses; at an exact corner crossing it steps
-/// in y first). False when a cell after `a` is Occupied, or Unknown with
-/// `unknown_blocks`.
-bool lineOfSight(const Grid<GroundState>& g, const Cell& a, const Cell& b, bool unknown_blocks)
+/// in y first). False when a cell after `a` is Occupied, or, with
+/// `open_unknown` given, Unknown but not open unknown (a wall's unseen
+/// interior or base: CollisionSpace::open_unknown).
+bool lineOfSight(const Grid<GroundState>& g, const Cell& a, const Cell& b,
+                 const std::vector<uint8_t>* open_unknown)
 {
   const int nx = static_cast<int>(g.getSizeX());
   const GroundState* st = g.data().data();
@@ -48,7 +50,10 @@ bool lineOfSight(const Grid<GroundState>& g, const Cell& a, const Cell& b, bool 
       ++iy;
     }
     const GroundState v = st[x + y * nx];
-    if (v == GroundState::Occupied || (unknown_blocks && v == GroundState::Unknown)) return false;
+    if (v == GroundState::Occupied) return false;
+    if (open_unknown && v == GroundState::Unknown &&
+        !(*open_unknown)[static_cast<std::size_t>(x) + static_cast<std::size_t>(y) * nx])
+      return false;
   }
   return true;
 }
@@ -183,7 +188,8 @@ std::vector<Cell> sampleSpace(const GroundGrid& g, const CollisionSpace& cs, con
       const Cell c{cx, cy};
       const bool sees = std::any_of(targets.begin(), targets.end(),
                                     [&](const Cell& t) {
-                                      return lineOfSight(g.state, c, t, p.sight_blocked_by_unknown);
+                                      return lineOfSight(g.state, c, t,
+                                                         p.sight_blocked_by_unknown ? &cs.open_unknown : nullptr);
                                     });
       if (sees) space.push_back(c);
     }

@@ -220,11 +220,13 @@ struct SamplingParams : public mrpt::config::CLoadableOptions
   /// The circle keeps its own stand-off (r_coll). 0 = off [m].
   double view_standoff_m = 1.5;
   /// Line of sight to a frontier (sample space, view stand-off) is blocked
-  /// by Unknown cells too, not only by Occupied ones (thesis fig. 4.15).
-  /// A wall is mapped as two faces with gaps and an unseen interior; the
-  /// 4-connected walk slipped through the gaps and the target stood in the
-  /// next room, "seeing" a corridor through the wall (b2, omniRob, nearest:
-  /// three frontiers of a branch corridor given up that way, 0.75).
+  /// by Unknown cells that are not open unknown too (beside an occupied cell
+  /// or in a thin pocket: CollisionSpace::open_unknown), not only by
+  /// Occupied ones (thesis fig. 4.15). A wall is mapped as two faces with
+  /// gaps round an unseen interior; the 4-connected walk slipped through
+  /// the gaps and the target stood in the next room, "seeing" a corridor
+  /// through the wall (b2, omniRob, nearest: three frontiers of a branch
+  /// corridor given up that way, 0.75).
   bool sight_blocked_by_unknown = false;
   void loadFromConfigFile(const mrpt::config::CConfigFileBase& c, const std::string& s) override;
   void saveToConfigFile(mrpt::config::CConfigFileBase& c, const std::string& s) const override;
