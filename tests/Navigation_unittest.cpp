@@ -711,6 +711,32 @@ class ClearanceProbe : public navigation::RobotInterface
   double margin_m_;
   std::size_t too_close_ = 0;
 };
+
+/// The omniRob in `world` (at `start`, or the world's start) driven through
+/// a ClearanceProbe of 2 cm: sim, robot, probe and driver, in that order.
+struct ProbedOmniRob
+{
+  sim::SimConfig cfg = sim::SimConfig::defaults("omnirob");
+  sim::Simulator simulator;
+  apps::SimRobot robot;
+  ClearanceProbe probe;
+  StopAndScanDriver driver;
+
+  ProbedOmniRob(const std::string& world, const std::optional<mrpt::poses::CPose2D>& start)
+      : simulator(sim::loadWorld(world, start), cfg.robot, cfg.cameras, cfg.sim),
+        robot(simulator),
+        probe(robot, simulator, 0.02),
+        driver(probe, params(cfg))
+  {
+  }
+  static DriverParams params(const sim::SimConfig& c)
+  {
+    auto p = DriverParams::forFootprint(c.robot.length_m, c.robot.width_m);
+    p.max_v_mps = c.robot.max_v_mps;
+    p.max_w = c.robot.max_w;
+    return p;
+  }
+};
 }  // namespace
 
 TEST(StopAndScanDriver, TheOmniRobPassesANinetyCentimetreDoorTurnedLengthwise)
@@ -729,14 +755,10 @@ TEST(StopAndScanDriver, TheOmniRobPassesANinetyCentimetreDoorTurnedLengthwise)
     EXPECT_LT(circle.sim->robot().groundTruth().x(), 3.5);
     EXPECT_EQ(circle.collisions(), 0u);
   }
-  auto cfg = sim::SimConfig::defaults("omnirob");
-  sim::Simulator simulator(sim::loadWorld(world, std::nullopt), cfg.robot, cfg.cameras, cfg.sim);
-  apps::SimRobot robot(simulator);
-  ClearanceProbe probe(robot, simulator, 0.02);
-  auto p = DriverParams::forFootprint(cfg.robot.length_m, cfg.robot.width_m);
-  p.max_v_mps = cfg.robot.max_v_mps;
-  p.max_w = cfg.robot.max_w;
-  StopAndScanDriver driver(probe, p);
+  ProbedOmniRob rig(world, std::nullopt);
+  auto& driver = rig.driver;
+  auto& simulator = rig.simulator;
+  auto& probe = rig.probe;
   // The waypoints of the footprint path: turn, then 1 m pieces lengthwise.
   for (const double x : {3.0, 4.0, 5.0, 6.0})
   {
@@ -806,15 +828,10 @@ TEST(StopAndScanDriver, AFootprintWaypointOffTheDoorsMiddleIsCentredOnTheSensedJ
     EXPECT_FALSE(r.blocking_points.empty());
     EXPECT_EQ(off.collisions(), 0u);
   }
-  auto cfg = sim::SimConfig::defaults("omnirob");
-  sim::Simulator simulator(sim::loadWorld(twoRoomsWorld(0.85), mrpt::poses::CPose2D(3.0, 2.0, 0.0)),
-                           cfg.robot, cfg.cameras, cfg.sim);
-  apps::SimRobot robot(simulator);
-  ClearanceProbe probe(robot, simulator, 0.02);
-  auto p = DriverParams::forFootprint(cfg.robot.length_m, cfg.robot.width_m);
-  p.max_v_mps = cfg.robot.max_v_mps;
-  p.max_w = cfg.robot.max_w;
-  StopAndScanDriver driver(probe, p);
+  ProbedOmniRob rig(twoRoomsWorld(0.85), mrpt::poses::CPose2D(3.0, 2.0, 0.0));
+  auto& driver = rig.driver;
+  auto& simulator = rig.simulator;
+  auto& probe = rig.probe;
   const auto r = driver.driveFootprint(wp, 0.0);
   std::cout << "[ centred waypoint ] " << toString(r.outcome) << ": " << r.message << std::endl;
   ASSERT_EQ(r.outcome, DriveOutcome::Reached) << r.message;
