@@ -179,6 +179,7 @@ std::vector<Cell> sampleSpace(const GroundGrid& g, const CollisionSpace& cs, con
   const double hi2 = (p.d_max_sample_m / res) * (p.d_max_sample_m / res);
   const std::vector<Cell> targets = sightTargets(f);
   const uint8_t* reachable = fm.reachable.data().data();
+  const std::vector<uint8_t>* open_unknown = p.sight_blocked_by_unknown ? &cs.open_unknown : nullptr;
   for (int cy = w.y0; cy < w.y1; ++cy)
   {
     for (int cx = w.x0; cx < w.x1; ++cx)
@@ -186,11 +187,9 @@ std::vector<Cell> sampleSpace(const GroundGrid& g, const CollisionSpace& cs, con
       const double d2 = sq[(cx - w.x0) + (cy - w.y0) * w.width()];
       if (d2 < lo2 || d2 > hi2 || !reachable[cx + cy * nx]) continue;
       const Cell c{cx, cy};
-      const bool sees = std::any_of(targets.begin(), targets.end(),
-                                    [&](const Cell& t) {
-                                      return lineOfSight(g.state, c, t,
-                                                         p.sight_blocked_by_unknown ? &cs.open_unknown : nullptr);
-                                    });
+      const bool sees = std::any_of(targets.begin(), targets.end(), [&](const Cell& t) {
+        return lineOfSight(g.state, c, t, open_unknown);
+      });
       if (sees) space.push_back(c);
     }
   }

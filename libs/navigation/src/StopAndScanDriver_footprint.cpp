@@ -84,9 +84,7 @@ DriveResult StopAndScanDriver::driveFootprint(const Eigen::Vector2d& waypoint, d
       DriveResult again = straightDrive(*centred, yaw_rad, rectangle_at_goal);
       again.message = mrpt::format("waypoint centred by %.3f m: ", (*centred - waypoint).norm()) +
                       again.message;
-      appendDrive(tr, again, "");
-      tr.outcome = again.outcome;
-      tr.guard_held = again.guard_held;
+      continueDrive(tr, again);
       if (again.outcome != DriveOutcome::Blocked)
         blocking.clear();
       else if (blocking.empty())
@@ -96,9 +94,7 @@ DriveResult StopAndScanDriver::driveFootprint(const Eigen::Vector2d& waypoint, d
   tr.blocking_points = std::move(blocking);
   if (turned)
   {
-    appendDrive(res, tr, "");
-    res.outcome = tr.outcome;
-    res.guard_held = tr.guard_held;
+    continueDrive(res, tr);
     res.blocking_points = tr.blocking_points;
   }
   else

@@ -103,6 +103,15 @@ inline void appendDrive(DriveResult& r, const DriveResult& next, const std::stri
   r.distance_m += next.distance_m;
 }
 
+/// `next` driven after `r` (appendDrive), its outcome and guard hold the
+/// whole's.
+inline void continueDrive(DriveResult& r, const DriveResult& next)
+{
+  appendDrive(r, next, "");
+  r.outcome = next.outcome;
+  r.guard_held = next.guard_held;
+}
+
 /// `pre` (a back-off before the drive) followed by `r`: r's outcome and
 /// goal distance, both drives' time, steps and path. Nothing when pre did
 /// not step.
@@ -111,9 +120,7 @@ inline void prependDrive(const DriveResult& pre, DriveResult& r)
   if (pre.steps == 0) return;
   DriveResult out = pre;
   out.message = "back-off: " + pre.message;
-  appendDrive(out, r, "");
-  out.outcome = r.outcome;
-  out.guard_held = r.guard_held;
+  continueDrive(out, r);
   out.goal_distance_m = r.goal_distance_m;
   out.blocking_points = std::move(r.blocking_points);
   r = out;
