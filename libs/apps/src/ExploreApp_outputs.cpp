@@ -191,7 +191,8 @@ void ExploreRun::openOutputs()
   coverage_csv_ << "step,stops,sim_time_s,path_length_m,coverage_2d,frontiers,done,target_x,"
                    "target_y,waypoints,ms_slam,ms_projection,ms_collision,ms_frontiers,"
                    "ms_sampling,ms_rating,ms_path,ms_plan_total,metaview_points,octree_nodes,"
-                   "rss_mb,coverage_2d_planner_circle,ms_tour,tour_length_m\n";
+                   "rss_mb,coverage_2d_planner_circle,ms_tour,tour_length_m,ms_rooms,rooms,robot_room,"
+                   "frontier_room\n";
   if (cfg_.explore.write_step_images) fs::create_directories(dir / "steps");
 }
 
@@ -200,19 +201,33 @@ double ExploreRun::coverageOf(const exploration::GroundGrid& g) const
   return explore_detail::coverage2d(g, gt_floor_.free_floor, T_world_map_);
 }
 
+namespace
+{
+/// The room of the frontier the plan chose (-1: none, or no plan).
+int frontierRoom(const exploration::PlanResult& p)
+{
+  if (!p.ok() || !p.frontier || !p.frontiers) return -1;
+  const auto& fs = p.frontiers->frontiers;
+  for (std::size_t i = 0; i < fs.size() && i < p.frontier_rooms.size(); ++i)
+    if (fs[i].id == p.frontier->id) return p.frontier_rooms[i];
+  return -1;
+}
+}  // namespace
+
 void ExploreRun::writeCoverageRow(const exploration::PlanResult& p, double coverage,
                                   double coverage_planner_circle, double slam_ms)
 {
   coverage_csv_ << mrpt::format(
       "%zu,%zu,%.3f,%.4f,%.5f,%zu,%s,%.3f,%.3f,%zu,%.1f,%.1f,%.1f,%.1f,%.1f,%.1f,%.1f,%.1f,%zu,%zu,"
-      "%.1f,%.5f,%.1f,%.2f\n",
+      "%.1f,%.5f,%.1f,%.2f,%.1f,%zu,%d,%d\n",
       s_.steps, s_.stops, sim_.simTime(), s_.path_length_m, coverage,
       p.frontiers ? p.frontiers->frontiers.size() : std::size_t(0),
       p.ok() ? "no" : exploration::toString(p.done), p.target.x(), p.target.y(),
       p.waypoints.size(), slam_ms, p.ms.projection, p.ms.collision, p.ms.frontiers,
       p.ms.sampling, p.ms.rating, p.ms.path, p.ms.total, slam().metaview().size(),
       slam().octomap().tree().size(), processMemoryMb("VmRSS:"), coverage_planner_circle,
-      p.ms.tour, p.tour.length_m);
+      p.ms.tour, p.tour.length_m, p.ms.rooms, p.rooms ? p.rooms->area_m2.size() : std::size_t(0),
+      static_cast<int>(p.robot_room), frontierRoom(p));
   coverage_csv_.flush();
   // coverage.png follows coverage.csv at every step (a few ms), so a run cut
   // short still leaves it.

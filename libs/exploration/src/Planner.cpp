@@ -49,6 +49,7 @@ void PlannerParams::load(const mrpt::config::CConfigFileBase& cfg)
   common::loadChecked(projection, cfg, "projection");
   common::loadChecked(collision, cfg, "collision");
   common::loadChecked(sampling, cfg, "sampling");
+  common::loadChecked(rooms, cfg, "rooms");
   std::set<std::string> cam_keys;
   for (int i = 0; i < 64; i++) cam_keys.insert("cam" + std::to_string(i) + "_pose");
   common::assertKnownKeys(cfg, "scan_rating", rating, cam_keys);
@@ -75,6 +76,7 @@ void PlannerParams::save(mrpt::config::CConfigFileBase& cfg) const
   projection.saveToConfigFile(cfg, "projection");
   collision.saveToConfigFile(cfg, "collision");
   sampling.saveToConfigFile(cfg, "sampling");
+  rooms.saveToConfigFile(cfg, "rooms");
   rating.saveToConfigFile(cfg, "scan_rating");
   path.saveToConfigFile(cfg, "path");
   cfg.write("planner", "strategy", strategy == Strategy::NextBestView ? "nbv" : "nearest");
@@ -104,6 +106,24 @@ std::optional<Eigen::Vector2d> nearestReachable(const FrontierMap& fm, const Eig
       }
     }
   return best;
+}
+
+/// The room most of the frontier's cells lie in (-1: none; ties: the lower index).
+int32_t majorityRoom(const RoomMap& rooms, const Frontier& f)
+{
+  std::vector<std::pair<int32_t, int>> counts;
+  for (const Cell& c : f.cells)
+  {
+    const int32_t room = rooms.roomAt(c);
+    if (room < 0) continue;
+    auto it = std::find_if(counts.begin(), counts.end(), [&](const auto& e) { return e.first == room; });
+    if (it == counts.end()) counts.emplace_back(room, 1);
+    else ++it->second;
+  }
+  std::pair<int32_t, int> best{-1, 0};
+  for (const auto& e : counts)
+    if (e.second > best.second || (e.second == best.second && e.first < best.first)) best = e;
+  return best.first;
 }
 
 double yawTowards(const Eigen::Vector2d& from, const Eigen::Vector2d& to)
@@ -249,6 +269,17 @@ PlanResult plan(
   r.ground = ground;
   r.space = space;
   r.frontiers = fm;
+  tic.Tic();
+  auto rooms = std::make_shared<RoomMap>(segmentRooms(*ground, *space, p.rooms));
+  r.rooms = rooms;
+  r.robot_room = rooms->roomAt(ground->robot);
+  r.frontier_rooms.reserve(fm->frontiers.size());
+  for (const Frontier& f : fm->frontiers) r.frontier_rooms.push_back(majorityRoom(*rooms, f));
+  // finish_room (next-best-view): the robot's room's frontiers first.
+  std::vector<uint8_t> in_room;
+  if (p.rooms.finish_room && p.strategy == Strategy::NextBestView && r.robot_room >= 0)
+    for (const int32_t room : r.frontier_rooms) in_room.push_back(room == r.robot_room);
+  r.ms.rooms = 1e3 * tic.Tac();
 
   if (fm->frontiers.empty())
   {
@@ -285,7 +316,7 @@ PlanResult plan(
   while (r.done == DoneReason::None)
   {
     const auto fi = chooseFrontier(fm->frontiers, p.sampling, blacklist, r.skipped_frontiers,
-                                   by_tour ? &rank : nullptr);
+                                   by_tour ? &rank : nullptr, in_room.empty() ? nullptr : &in_room);
     if (fi && by_tour)
       r.tour = tours[fm->frontiers[*fi].size_m > p.sampling.th_f1_m ? 0 : 1];
     if (!fi)

@@ -63,6 +63,19 @@ class Canvas
   mrpt::img::CImage img_;
 };
 
+/// Reachable free cells of a room: one of eight blues and greens by the
+/// room's index (neighbouring rooms usually differ), darker for the robot's.
+TColor roomColour(int32_t room, bool robots)
+{
+  static const TColor palette[8] = {{120, 160, 255}, {150, 210, 240}, {140, 220, 190},
+                                    {180, 180, 250}, {110, 190, 220}, {170, 230, 170},
+                                    {130, 140, 230}, {190, 210, 255}};
+  const TColor c = palette[static_cast<std::size_t>(room) % 8];
+  if (!robots) return c;
+  return TColor(static_cast<uint8_t>(c.R * 0.75), static_cast<uint8_t>(c.G * 0.75),
+                static_cast<uint8_t>(c.B * 0.75));
+}
+
 TColor spaceColour(SpaceState s)
 {
   switch (s)
@@ -94,7 +107,10 @@ void renderPlan(
     {
       const SpaceState s = *st.cellByIndex(cx, cy);
       const bool reach = r.frontiers && *r.frontiers->reachable.cellByIndex(cx, cy);
-      cv.cell({cx, cy}, reach && s == SpaceState::Free ? kReachable : spaceColour(s));
+      const int32_t room = r.rooms ? r.rooms->roomAt({cx, cy}) : -1;
+      cv.cell({cx, cy}, reach && s == SpaceState::Free
+                            ? (room >= 0 ? roomColour(room, room == r.robot_room) : kReachable)
+                            : spaceColour(s));
     }
   for (const auto& c : r.sample_space) cv.cell(c, kSampleSpace);
   if (r.frontiers)

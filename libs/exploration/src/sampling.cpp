@@ -141,15 +141,20 @@ std::optional<std::size_t> chooseFrontier(const std::vector<Frontier>& frontiers
                                           const SamplingParams& p,
                                           const std::vector<Eigen::Vector2d>& blacklist,
                                           const std::vector<std::size_t>& skip,
-                                          const std::vector<double>* rank)
+                                          const std::vector<double>* rank,
+                                          const std::vector<uint8_t>* first)
 {
   auto key = [&](std::size_t i) { return rank ? (*rank)[i] : frontiers[i].distance_m; };
-  for (const double th : {p.th_f1_m, p.th_f2_m})
+  // Tier 0 (`first` given): the preferred frontiers longer than th_f2; then
+  // the thesis' tiers over all frontiers.
+  for (int tier = first ? 0 : 1; tier < 3; ++tier)
   {
+    const double th = tier == 1 ? p.th_f1_m : p.th_f2_m;
     std::optional<std::size_t> best;
     for (std::size_t i = 0; i < frontiers.size(); ++i)
     {
       const Frontier& f = frontiers[i];
+      if (tier == 0 && !(*first)[i]) continue;
       if (f.size_m <= th || std::find(skip.begin(), skip.end(), i) != skip.end()) continue;
       if (nearAny(f.center, blacklist, p.blacklist_radius_m)) continue;
       if (!best || key(i) < key(*best)) best = i;

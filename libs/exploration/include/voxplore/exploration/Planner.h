@@ -6,6 +6,7 @@
 #include <mrpt/poses/CPose2D.h>
 #include <voxplore/exploration/footprint.h>
 #include <voxplore/exploration/path.h>
+#include <voxplore/exploration/rooms.h>
 #include <voxplore/exploration/scan_rating.h>
 #include <voxplore/exploration/stages.h>
 
@@ -31,12 +32,13 @@ enum class FrontierOrder
   Nearest  ///< the nearest by travel distance (thesis 4.5.4)
 };
 
-/// @brief All planner settings: [projection] [collision] [sampling] [scan_rating] [path] [planner].
+/// @brief All planner settings: [projection] [collision] [sampling] [rooms] [scan_rating] [path] [planner].
 struct PlannerParams
 {
   ProjectionParams projection;
   CollisionParams collision;
   SamplingParams sampling;
+  RoomParams rooms;
   ScanRatingParams rating;
   PathParams path;
   Strategy strategy = Strategy::NextBestView;
@@ -48,7 +50,7 @@ struct PlannerParams
   void save(mrpt::config::CConfigFileBase& cfg) const;
   static std::vector<std::string> sections()
   {
-    return {"projection", "collision", "sampling", "scan_rating", "path", "planner"};
+    return {"projection", "collision", "sampling", "rooms", "scan_rating", "path", "planner"};
   }
 };
 
@@ -75,7 +77,8 @@ const char* toString(SkipReason r);
 /// @brief Milliseconds per stage of one planning step.
 struct PlanTimings
 {
-  double projection = 0, collision = 0, frontiers = 0, tour = 0, sampling = 0, rating = 0, path = 0, total = 0;
+  double projection = 0, collision = 0, frontiers = 0, rooms = 0, tour = 0, sampling = 0, rating = 0,
+         path = 0, total = 0;
 };
 
 /// @brief Result of one planning step: a plan, or done with its reason.
@@ -102,6 +105,10 @@ struct PlanResult
   std::shared_ptr<const CollisionSpace> space;
   std::shared_ptr<const FrontierMap> frontiers;
   std::shared_ptr<const FootprintSpace> footprint;  ///< [collision] model = footprint only
+  std::shared_ptr<const RoomMap> rooms;             ///< G's rooms (segmentRooms)
+  int32_t robot_room = -1;  ///< the room of the robot's cell (-1: none)
+  /// One per frontier: its room (the room most of its cells lie in; -1: none).
+  std::vector<int32_t> frontier_rooms;
   std::vector<Cell> sample_space;
   bool approached = false;  ///< next-best-view: the chosen frontier was approached (plan()'s `approach`)
   /// frontier_order = tour (next-best-view): the tour over the tier the
@@ -130,8 +137,9 @@ PlanResult plan(
 
 /// @brief PNG of G with its layers in the thesis' colours (fig. 4.12): free
 ///        white, occupied black, unknown red, collision grey, maybe-collision
-///        green, reachable blue, frontiers cyan, chosen frontier yellow,
-///        sample space purple, samples orange, chosen pose and path magenta,
+///        green, frontiers cyan, chosen frontier yellow,
+///        reachable blue (each room its own shade of blue or green, the
+///        robot's darker), sample space purple, samples orange, chosen pose and path magenta,
 ///        robot and travelled `trajectory` (optional) dark red. One pixel per cell, scaled by `scale`.
 /// @throws std::runtime_error naming the path when it cannot be written.
 void renderPlan(

@@ -241,10 +241,13 @@ bool nearAny(const Eigen::Vector2d& p, const std::vector<Eigen::Vector2d>& point
 /// @return empty when none qualifies (exploration done)
 /// @param rank optional, one per frontier: chosen by least rank instead of
 ///        least distance (the tour's order), within each threshold tier.
+/// @param first optional, one per frontier: the frontiers marked 1 and
+///        longer than th_f2 come before both tiers (the robot's room,
+///        RoomParams::finish_room), by the same key.
 std::optional<std::size_t> chooseFrontier(
     const std::vector<Frontier>& frontiers, const SamplingParams& p,
     const std::vector<Eigen::Vector2d>& blacklist, const std::vector<std::size_t>& skip = {},
-    const std::vector<double>* rank = nullptr);
+    const std::vector<double>* rank = nullptr, const std::vector<uint8_t>* first = nullptr);
 
 /// @brief An order of frontiers to visit (issue 12).
 struct FrontierTour
