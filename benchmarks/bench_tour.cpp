@@ -1,5 +1,6 @@
-// The frontier tour (issue 12): the tour alone and a whole planning step
-// with frontier_order = nearest and = tour, the compact robot (the thesis'
+// The frontier tour and the rooms (issue 12): the tour alone, the room
+// segmentation alone and a whole planning step with frontier_order = nearest,
+// = tour and with [rooms] finish_room, the compact robot (the thesis'
 // circle) on a building map. Target: the whole step under 100 ms median on
 // one core on a 500 m^2 map (run under taskset -c 1, Release).
 //
@@ -86,12 +87,21 @@ void BM_Tour(benchmark::State& st)
   st.counters["length_m"] = len;
 }
 
-void planStep(benchmark::State& st, FrontierOrder order)
+void BM_Rooms(benchmark::State& st)
+{
+  const Fixture& f = fixture();
+  std::size_t rooms = 0;
+  for (auto _ : st) rooms = segmentRooms(f.ground, f.space, f.params.rooms).area_m2.size();
+  st.counters["rooms"] = static_cast<double>(rooms);
+}
+
+void planStep(benchmark::State& st, FrontierOrder order, bool finish_room = false)
 {
   const Fixture& f = fixture();
   PlannerParams p = f.params;
   p.strategy = Strategy::NextBestView;
   p.frontier_order = order;
+  p.rooms.finish_room = finish_room;
   PlanTimings last;
   for (auto _ : st)
   {
@@ -100,15 +110,19 @@ void planStep(benchmark::State& st, FrontierOrder order)
     benchmark::DoNotOptimize(r.ok());
   }
   st.counters["tour_ms"] = last.tour;
+  st.counters["rooms_ms"] = last.rooms;
   st.counters["rating_ms"] = last.rating;
 }
 
 void BM_PlanStepNearestOrder(benchmark::State& st) { planStep(st, FrontierOrder::Nearest); }
 void BM_PlanStepTour(benchmark::State& st) { planStep(st, FrontierOrder::Tour); }
+void BM_PlanStepFinishRoom(benchmark::State& st) { planStep(st, FrontierOrder::Nearest, true); }
 
 BENCHMARK(BM_Tour)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_PlanStepNearestOrder)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_PlanStepTour)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_Rooms)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_PlanStepFinishRoom)->Unit(benchmark::kMillisecond);
 }  // namespace
 
 int main(int argc, char** argv)
