@@ -262,6 +262,8 @@ PlanResult plan(
     applyFootprint(*space, *fs);
     r.footprint = fs;
   }
+  else if (p.collision.swept_passage)
+    openSweptPassages(*space, swept, p.collision);
   r.ms.collision = 1e3 * tic.Tac();
   tic.Tic();
   auto fm = std::make_shared<FrontierMap>(findFrontiers(*ground, *space));
@@ -301,9 +303,10 @@ PlanResult plan(
     for (std::size_t i = 0; i < fm->frontiers.size(); ++i)
     {
       const Frontier& f = fm->frontiers[i];
-      if (f.size_m <= p.sampling.th_f2_m || nearAny(f.center, blacklist, p.sampling.blacklist_radius_m))
+      const double length = p.sampling.judgedLength(f);
+      if (length <= p.sampling.th_f2_m || nearAny(f.center, blacklist, p.sampling.blacklist_radius_m))
         continue;
-      (f.size_m > p.sampling.th_f1_m ? tier1 : tier2).push_back(i);
+      (length > p.sampling.th_f1_m ? tier1 : tier2).push_back(i);
     }
     for (const auto* tier : {&tier1, &tier2})
     {
@@ -318,7 +321,7 @@ PlanResult plan(
     const auto fi = chooseFrontier(fm->frontiers, p.sampling, blacklist, r.skipped_frontiers,
                                    by_tour ? &rank : nullptr, in_room.empty() ? nullptr : &in_room);
     if (fi && by_tour)
-      r.tour = tours[fm->frontiers[*fi].size_m > p.sampling.th_f1_m ? 0 : 1];
+      r.tour = tours[p.sampling.judgedLength(fm->frontiers[*fi]) > p.sampling.th_f1_m ? 0 : 1];
     if (!fi)
     {
       r.done = r.skipped_frontiers.empty() ? DoneReason::NoReachableFrontier : DoneReason::AllSkipped;
@@ -341,7 +344,9 @@ PlanResult plan(
     if (!why)
     {
       std::ostringstream os;
-      os << "frontier " << *fi << " (" << r.frontier->size_m << " m, " << r.frontier->distance_m
+      os << "frontier " << *fi << " (" << r.frontier->size_m << " m"
+         << (p.sampling.judge_opening ? ", opening " + std::to_string(r.frontier->opening_m).substr(0, 4) + " m" : "")
+         << ", " << r.frontier->distance_m
          << " m away" << (r.approached ? ", approached" : "") << "): target (" << r.target.x()
          << ", " << r.target.y() << "), path " << r.path->length_m << " m in "
          << r.waypoints.size() << " waypoints";

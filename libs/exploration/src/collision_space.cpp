@@ -170,6 +170,9 @@ void CollisionParams::loadFromConfigFile(const mrpt::config::CConfigFileBase& c,
   common::requireValid(footprint_square_share >= 0 && footprint_square_share <= 1, c, s,
                        "footprint_square_share", "must be in [0, 1]");
   MRPT_LOAD_CONFIG_VAR(footprint_bin_span, double, c, s);
+  MRPT_LOAD_CONFIG_VAR(swept_passage, bool, c, s);
+  MRPT_LOAD_CONFIG_VAR(swept_passage_margin_m, double, c, s);
+  common::requireValid(swept_passage_margin_m >= 0, c, s, "swept_passage_margin_m", "must be >= 0");
   common::requireValid(footprint_bin_span >= 0 && footprint_bin_span <= 1, c, s,
                        "footprint_bin_span", "must be in [0, 1]");
   common::requireValid(footprint_margin_m >= 0, c, s, "footprint_margin_m", "must be >= 0");
@@ -190,6 +193,8 @@ void CollisionParams::saveToConfigFile(mrpt::config::CConfigFileBase& c, const s
   MRPT_SAVE_CONFIG_VAR(yaw_bins, c, s);
   MRPT_SAVE_CONFIG_VAR(footprint_square_share, c, s);
   MRPT_SAVE_CONFIG_VAR(footprint_bin_span, c, s);
+  MRPT_SAVE_CONFIG_VAR(swept_passage, c, s);
+  MRPT_SAVE_CONFIG_VAR(swept_passage_margin_m, c, s);
 }
 
 CollisionSpace computeCollisionSpace(const GroundGrid& g, const CollisionParams& p)
@@ -231,6 +236,31 @@ CollisionSpace computeCollisionSpace(const GroundGrid& g, const CollisionParams&
     }
   }
   return cs;
+}
+
+std::size_t openSweptPassages(CollisionSpace& cs, const SweptPath& swept, const CollisionParams& p)
+{
+  const int nx = static_cast<int>(cs.state.getSizeX()), ny = static_cast<int>(cs.state.getSizeY());
+  const float min_clear = static_cast<float>(p.r_coll_m + p.swept_passage_margin_m);
+  std::size_t opened = 0;
+  for (const Eigen::Vector3d& q : swept)
+  {
+    Cell c;
+    if (!cellOf(cs.state, Eigen::Vector2d(q.x(), q.y()), c)) continue;
+    for (int dy = -1; dy <= 1; ++dy)
+      for (int dx = -1; dx <= 1; ++dx)
+      {
+        const int x = c.cx + dx, y = c.cy + dy;
+        if (x < 0 || y < 0 || x >= nx || y >= ny) continue;
+        const std::size_t i = static_cast<std::size_t>(x) + static_cast<std::size_t>(y) * nx;
+        SpaceState& st = *cs.state.cellByIndex(x, y);
+        if (st != SpaceState::Collision && st != SpaceState::MaybeCollision) continue;
+        if (cs.clearance_occ_m.data()[i] < min_clear) continue;
+        st = SpaceState::Free;
+        ++opened;
+      }
+  }
+  return opened;
 }
 
 }  // namespace voxplore::exploration

@@ -203,6 +203,47 @@ std::vector<std::vector<Cell>> splitFrontier(const Search& s, const std::vector<
   return out;
 }
 
+/// Frontier::opening_m of every frontier: its cells and the known free cells
+/// that border open unknown within `grow_cells` 8-steps of them along such
+/// cells (each cell counted for the frontier whose cells reach it first,
+/// breadth-first from all frontiers at once).
+void measureOpenings(const Search& s, std::vector<Frontier>& frontiers, int grow_cells, double res)
+{
+  std::vector<int32_t> owner(s.dist.size(), -1);
+  std::vector<int> front, next;
+  std::vector<std::size_t> count(frontiers.size(), 0);
+  for (std::size_t k = 0; k < frontiers.size(); ++k)
+    for (const Cell& c : frontiers[k].cells)
+    {
+      const int i = c.cx + c.cy * s.nx;
+      if (owner[i] >= 0) continue;
+      owner[i] = static_cast<int32_t>(k);
+      count[k]++;
+      front.push_back(i);
+    }
+  for (int step = 0; step < grow_cells && !front.empty(); ++step)
+  {
+    next.clear();
+    for (const int i : front)
+    {
+      const int cx = i % s.nx, cy = i / s.nx;
+      for (int k = 0; k < 8; ++k)
+      {
+        const int x = cx + kDx[k], y = cy + kDy[k];
+        if (x < 0 || y < 0 || x >= s.nx || y >= s.ny) continue;
+        const int j = x + y * s.nx;
+        if (owner[j] >= 0 || !bordersOpenUnknown(s, j)) continue;
+        owner[j] = owner[i];
+        count[static_cast<std::size_t>(owner[i])]++;
+        next.push_back(j);
+      }
+    }
+    front.swap(next);
+  }
+  for (std::size_t k = 0; k < frontiers.size(); ++k)
+    frontiers[k].opening_m = static_cast<double>(count[k]) * res;
+}
+
 /// Groups frontier cells 8-connected, in row-major order of their first cell.
 std::vector<Frontier> groupFrontiers(const Search& s, const Grid<SpaceState>& g)
 {
@@ -284,6 +325,10 @@ FrontierMap findFrontiers(const GroundGrid& g, const CollisionSpace& cs)
   }
 
   fm.frontiers = groupFrontiers(s, grid);
+  if (s.grow_cells > 0)
+    for (Frontier& f : fm.frontiers) f.opening_m = f.size_m;  // grown already
+  else
+    measureOpenings(s, fm.frontiers, static_cast<int>(std::ceil(cs.radius_m / res - 1e-9)), res);
   // thesis 4.5.3: ascending travel distance; ties: the larger frontier first.
   std::stable_sort(
       fm.frontiers.begin(), fm.frontiers.end(),

@@ -112,6 +112,7 @@ void SamplingParams::loadFromConfigFile(const mrpt::config::CConfigFileBase& c,
   MRPT_LOAD_CONFIG_VAR(blacklist_radius_m, double, c, s);
   MRPT_LOAD_CONFIG_VAR(view_standoff_m, double, c, s);
   MRPT_LOAD_CONFIG_VAR(sight_blocked_by_unknown, bool, c, s);
+  MRPT_LOAD_CONFIG_VAR(judge_opening, bool, c, s);
   using common::requireValid;
   requireValid(th_f2_m >= 0, c, s, "th_f2_m", "must be >= 0");
   requireValid(th_f1_m >= th_f2_m, c, s, "th_f1_m", "need th_f1_m >= th_f2_m");
@@ -135,6 +136,7 @@ void SamplingParams::saveToConfigFile(mrpt::config::CConfigFileBase& c, const st
   MRPT_SAVE_CONFIG_VAR(blacklist_radius_m, c, s);
   MRPT_SAVE_CONFIG_VAR(view_standoff_m, c, s);
   MRPT_SAVE_CONFIG_VAR(sight_blocked_by_unknown, c, s);
+  MRPT_SAVE_CONFIG_VAR(judge_opening, c, s);
 }
 
 std::optional<std::size_t> chooseFrontier(const std::vector<Frontier>& frontiers,
@@ -155,7 +157,7 @@ std::optional<std::size_t> chooseFrontier(const std::vector<Frontier>& frontiers
     {
       const Frontier& f = frontiers[i];
       if (tier == 0 && !(*first)[i]) continue;
-      if (f.size_m <= th || std::find(skip.begin(), skip.end(), i) != skip.end()) continue;
+      if (p.judgedLength(f) <= th || std::find(skip.begin(), skip.end(), i) != skip.end()) continue;
       if (nearAny(f.center, blacklist, p.blacklist_radius_m)) continue;
       if (!best || key(i) < key(*best)) best = i;
     }

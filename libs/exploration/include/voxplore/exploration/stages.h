@@ -140,6 +140,17 @@ struct CollisionParams : public mrpt::config::CLoadableOptions
   /// 0.85-0.90 m doors). Turning in place always keeps the turn margin over
   /// the whole bin.
   double footprint_bin_span = 1.0;
+  /// Circle model: the cells round the poses the robot's centre has swept
+  /// (the cell and its 8 neighbours) are Free when they keep r_coll_m +
+  /// swept_passage_margin_m from every occupied cell centre: the robot's
+  /// body was there. The thesis' reachability runs over Free cells only (a
+  /// band of MaybeCollision at its rim), so a door whose jambs are unknown
+  /// (a double wall after drift: thick enough to be open unknown) is
+  /// MaybeCollision from side to side, and shut a robot that had driven in
+  /// through it in one room: the run ended "no frontier" (b5, compact, nbv,
+  /// finish_room: 0.748). false = thesis.
+  bool swept_passage = false;
+  double swept_passage_margin_m = 0.05;  ///< kept beyond r_coll_m on the swept cells [m]
   void loadFromConfigFile(const mrpt::config::CConfigFileBase& c, const std::string& s) override;
   void saveToConfigFile(mrpt::config::CConfigFileBase& c, const std::string& s) const override;
 };
@@ -172,6 +183,13 @@ struct CollisionSpace
 ///        occupied cell are Collision, else of an unknown cell MaybeCollision.
 CollisionSpace computeCollisionSpace(const GroundGrid& g, const CollisionParams& p);
 
+/// @brief CollisionParams::swept_passage on cs (circle model): the Collision
+///        and MaybeCollision cells of the 3 x 3 blocks round the swept
+///        poses' cells with clearance_occ_m >= r_coll_m +
+///        swept_passage_margin_m become Free.
+/// @return the cells opened
+std::size_t openSweptPassages(CollisionSpace& cs, const SweptPath& swept, const CollisionParams& p);
+
 // -------------------------------------------------------------------- 3. frontiers
 /// @brief One frontier: 8-connected reachable free cells bordering unknown space.
 struct Frontier
@@ -179,6 +197,12 @@ struct Frontier
   int id = 0;
   std::vector<Cell> cells;
   double size_m = 0;          ///< cells x l_res
+  /// The opening it faces [m]: its cells and the known free cells that
+  /// border open unknown within the planner circle's radius of them (circle
+  /// model; the footprint model's cells are grown already: = size_m). A
+  /// 0.9 m door gives the compact robot's 0.76 m circle a frontier of 2-4
+  /// reachable cells, its opening is the door.
+  double opening_m = 0;
   double distance_m = 0;      ///< BFS travel distance from the robot to its nearest cell [m]
   Eigen::Vector2d centroid{0, 0};  ///< mean of its cell centres [m]
   Eigen::Vector2d center{0, 0};    ///< its cell nearest to the centroid [m] (lies on the frontier)
@@ -228,6 +252,13 @@ struct SamplingParams : public mrpt::config::CLoadableOptions
   /// through the wall (b2, omniRob, nearest: three frontiers of a branch
   /// corridor given up that way, 0.75).
   bool sight_blocked_by_unknown = false;
+  /// The tiers (th_f1, th_f2) judge a frontier by the opening it faces
+  /// (Frontier::opening_m), not by its reachable cells only: the compact
+  /// robot's circle reaches 0.1-0.2 m of a 0.9 m door's frontier, below
+  /// th_f2, and the room behind it was never entered (b1 compact nbv, 0.88).
+  bool judge_opening = false;
+  /// @brief The length the tiers judge frontier f by [m].
+  double judgedLength(const Frontier& f) const { return judge_opening ? f.opening_m : f.size_m; }
   void loadFromConfigFile(const mrpt::config::CConfigFileBase& c, const std::string& s) override;
   void saveToConfigFile(mrpt::config::CConfigFileBase& c, const std::string& s) const override;
 };
