@@ -122,3 +122,18 @@ TEST(CircleDoors, ASweptPathNearerAnObstacleThanTheBodyAndMarginOpensNothing)
   EXPECT_EQ(openSweptPassages(cn, through, p), 0u);
   EXPECT_EQ(stateAt(cn, 3.0, 4.07), SpaceState::Collision);
 }
+
+TEST(CircleDoors, TheFloorBeyondADoorTheCircleCannotPassIsReportedCutOff)
+{
+  // Beyond the door a known room [1, 5) x [4.15, 8): 15.4 m^2.
+  const CollisionParams p = compact();
+  const GroundGrid open = roomWithDoor(0.9, GroundState::Free);
+  const CollisionSpace cs_open = computeCollisionSpace(open, p);
+  EXPECT_LT(cutOffFloorM2(open, cs_open, findFrontiers(open, cs_open)), 0.5);
+  const GroundGrid shut = roomWithDoor(0.6, GroundState::Free);
+  const CollisionSpace cs_shut = computeCollisionSpace(shut, p);
+  const double cut = cutOffFloorM2(shut, cs_shut, findFrontiers(shut, cs_shut));
+  // The far room (15.4 m^2) and the door's own cells (0.09 m^2): the
+  // nearest reachable centre stays more than r + l_res short of them.
+  EXPECT_NEAR(cut, 15.4 + 0.09, 0.1);
+}

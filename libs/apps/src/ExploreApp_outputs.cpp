@@ -152,7 +152,8 @@ void writeExploreSummary(const ExploreSummary& s, const std::string& path)
     << ",\n  \"skipped_cameras\": " << s.skipped_cameras << ",\n  \"failed_drives\": " << s.failed_drives
     << ",\n  \"blacklisted\": " << s.blacklisted << ",\n  \"guard_scaled\": " << s.guard_scaled
     << ",\n  \"guard_held\": " << s.guard_held << ",\n  \"path_length_m\": " << s.path_length_m
-    << ",\n  \"known_floor_m2\": " << s.known_floor_m2 << ",\n  \"frontiers_left_map\": [";
+    << ",\n  \"known_floor_m2\": " << s.known_floor_m2
+    << ",\n  \"known_floor_cut_off_m2\": " << s.known_floor_cut_off_m2 << ",\n  \"frontiers_left_map\": [";
   double left_m = 0;
   for (std::size_t i = 0; i < s.frontiers_left.size(); i++)
   {
@@ -282,6 +283,7 @@ void ExploreRun::finish()
   s_.guard_scaled = status.guard_scaled;
   s_.guard_held = status.guard_held;
   s_.known_floor_m2 = status.known_floor_m2;
+  s_.known_floor_cut_off_m2 = status.known_floor_cut_off_m2;
   s_.frontiers_left.clear();
   for (const auto& [c, len] : status.frontiers_left) s_.frontiers_left.push_back({c.x(), c.y(), len});
 

@@ -1,5 +1,6 @@
 /* voxplore — reachable space and frontiers (thesis 4.5.3). */
 #include <mrpt/core/exceptions.h>
+#include <voxplore/common/distance_transform.h>
 #include <voxplore/exploration/stages.h>
 
 #include <algorithm>
@@ -336,6 +337,29 @@ FrontierMap findFrontiers(const GroundGrid& g, const CollisionSpace& cs)
       { return a.distance_m != b.distance_m ? a.distance_m < b.distance_m : a.size_m > b.size_m; });
   for (std::size_t k = 0; k < fm.frontiers.size(); ++k) fm.frontiers[k].id = static_cast<int>(k);
   return fm;
+}
+
+double cutOffFloorM2(const GroundGrid& g, const CollisionSpace& cs, const FrontierMap& fm)
+{
+  const auto& st = g.state;
+  const int nx = static_cast<int>(st.getSizeX()), ny = static_cast<int>(st.getSizeY());
+  if (nx == 0 || ny == 0) return 0;
+  ASSERT_EQUAL_(fm.reachable.data().size(), st.data().size());
+  std::vector<double> sq(st.data().size(), common::kEdtFar);
+  bool any = false;
+  for (std::size_t i = 0; i < sq.size(); ++i)
+    if (fm.reachable.data()[i])
+    {
+      sq[i] = 0;
+      any = true;
+    }
+  if (any) common::squaredDistanceTransform(sq, nx, ny);
+  const double res = st.getResolution();
+  const double r_cells = cs.radius_m / res + 1.0;
+  std::size_t cut = 0;
+  for (std::size_t i = 0; i < sq.size(); ++i)
+    if (st.data()[i] == GroundState::Free && sq[i] > r_cells * r_cells) ++cut;
+  return static_cast<double>(cut) * res * res;
 }
 
 }  // namespace voxplore::exploration

@@ -190,6 +190,7 @@ void ExplorationLoop::loop()
     if (!plan.ok())
     {
       status_.termination_reason = exploration::toString(plan.done);
+      noteCutOff(plan);
       return;
     }
     if (const auto gain = stagnationGain(); gain && *gain < params_.stagnation_min_gain_m2)
@@ -327,6 +328,18 @@ void ExplorationLoop::rememberObstacles(const std::vector<Eigen::Vector2d>& poin
   }
   if (added)
     message(std::to_string(added) + " sensed point(s) in the way the map did not hold: occupied for the planner");
+}
+
+void ExplorationLoop::noteCutOff(const exploration::PlanResult& plan)
+{
+  if (!plan.ground || !plan.space || !plan.frontiers) return;
+  status_.known_floor_cut_off_m2 = exploration::cutOffFloorM2(*plan.ground, *plan.space, *plan.frontiers);
+  // Under a few m^2 it is the floor beside furniture legs and in corners.
+  if (status_.known_floor_cut_off_m2 >= 5.0)
+    message(mrpt::format("%.0f m^2 of the %.0f m^2 of known free floor are cut off from the robot: "
+                         "the planner's map closes the way there (a door narrowed or with unknown "
+                         "jambs after drift, or a passage narrower than the planner's robot)",
+                         status_.known_floor_cut_off_m2, status_.known_floor_m2));
 }
 
 void ExplorationLoop::noteFrontiers(const exploration::PlanResult& plan)

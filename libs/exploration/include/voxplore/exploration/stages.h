@@ -224,6 +224,15 @@ struct FrontierMap
 ///        step and sqrt(2) per diagonal (Dijkstra on the grid).
 FrontierMap findFrontiers(const GroundGrid& g, const CollisionSpace& cs);
 
+/// @brief Known free floor the robot cannot get to [m^2]: the Free cells of G
+///        farther than cs.radius_m + l_res from every reachable cell (no
+///        robot centre the planner allows brings its body there). The
+///        projection's flood fill joins every Free cell of G to the robot's,
+///        so floor beyond that is floor the collision space cut off: a door
+///        the map closes (drift, unknown jambs), a passage narrower than the
+///        planner's robot.
+double cutOffFloorM2(const GroundGrid& g, const CollisionSpace& cs, const FrontierMap& fm);
+
 // ---------------------------------------------------------- 4. choice and samples
 /// @brief ini section [sampling].
 struct SamplingParams : public mrpt::config::CLoadableOptions

@@ -130,6 +130,9 @@ struct ExplorationStatus
   double slam_ms_step = 0;        ///< SLAM time of the current step so far [ms]
   double elapsed_s = 0;           ///< Clock time since run() started [s]
   double known_floor_m2 = 0;      ///< free floor known in G at the last planning step [m^2]
+  /// At the end (the planner found nothing to do): the known free floor the
+  /// robot cannot get to (exploration::cutOffFloorM2) [m^2]
+  double known_floor_cut_off_m2 = 0;
   /// The frontiers of the last planning step (map frame): centre and length
   /// [m]; what is left unexplored when the run ends.
   std::vector<std::pair<Eigen::Vector2d, double>> frontiers_left;
@@ -215,6 +218,7 @@ class ExplorationLoop
   /// the planner marks them occupied from the next step on.
   void rememberObstacles(const std::vector<Eigen::Vector2d>& points);
   /// The plan's frontiers and known floor into status_ (and known_floor_).
+  void noteCutOff(const exploration::PlanResult& plan);
   void noteFrontiers(const exploration::PlanResult& plan);
   /// The free floor found over the last stagnation_steps planning steps
   /// [m^2]; empty when the rule is off or the run is not that long yet.
