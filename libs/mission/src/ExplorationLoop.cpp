@@ -42,6 +42,8 @@ void ExplorationLoopParams::loadFromConfigFile(const mrpt::config::CConfigFileBa
   MRPT_LOAD_CONFIG_VAR(approach_replanned, bool, c, s);
   MRPT_LOAD_CONFIG_VAR(stagnation_steps, int, c, s);
   MRPT_LOAD_CONFIG_VAR(stagnation_min_gain_m2, double, c, s);
+  MRPT_LOAD_CONFIG_VAR(cut_off_replan_m2, double, c, s);
+  common::requireValid(cut_off_replan_m2 >= 0, c, s, "cut_off_replan_m2", "must be >= 0");
   common::requireValid(stagnation_steps >= 0, c, s, "stagnation_steps", "must be >= 0");
   common::requireValid(stagnation_min_gain_m2 >= 0, c, s, "stagnation_min_gain_m2", "must be >= 0");
   common::requireValid(max_steps >= 0, c, s, "max_steps", "must be >= 0");
@@ -63,6 +65,7 @@ void ExplorationLoopParams::saveToConfigFile(mrpt::config::CConfigFileBase& c,
   MRPT_SAVE_CONFIG_VAR(approach_replanned, c, s);
   MRPT_SAVE_CONFIG_VAR(stagnation_steps, c, s);
   MRPT_SAVE_CONFIG_VAR(stagnation_min_gain_m2, c, s);
+  MRPT_SAVE_CONFIG_VAR(cut_off_replan_m2, c, s);
 }
 
 /// The robot as the navigator sees it: the user's robot, with pose() the
@@ -179,8 +182,9 @@ void ExplorationLoop::loop()
     if (params_.approach_replanned)
       for (const auto& [c, n] : plans_)
         if (n > 0) approach.push_back(c);
-    const auto plan = exploration::plan(slam_.octomap().tree(), slam_.currentPose(), planner_,
-                                        blacklist_, step, swept_, sensed_obstacles_, approach);
+    auto plan = exploration::plan(slam_.octomap().tree(), slam_.currentPose(), planner_,
+                                  blacklist_, step, swept_, sensed_obstacles_, approach);
+    if (!plan.ok() && params_.cut_off_replan_m2 > 0) replanShutIn(plan, step, approach);
     const double plan_s = tic.Tac();
     status_.compute_s += plan_s;
     status_.steps = step + 1;
@@ -328,6 +332,25 @@ void ExplorationLoop::rememberObstacles(const std::vector<Eigen::Vector2d>& poin
   }
   if (added)
     message(std::to_string(added) + " sensed point(s) in the way the map did not hold: occupied for the planner");
+}
+
+void ExplorationLoop::replanShutIn(exploration::PlanResult& plan, std::size_t step,
+                                   const std::vector<Eigen::Vector2d>& approach)
+{
+  if (!plan.ground || !plan.space || !plan.frontiers) return;
+  const double cut = exploration::cutOffFloorM2(*plan.ground, *plan.space, *plan.frontiers);
+  if (cut < params_.cut_off_replan_m2) return;
+  exploration::PlannerParams relaxed = planner_;
+  relaxed.collision.swept_passage = true;
+  auto again = exploration::plan(slam_.octomap().tree(), slam_.currentPose(), relaxed, blacklist_,
+                                 step, swept_, {}, approach);
+  message(mrpt::format("shut in: %.0f m^2 of known floor cut off from the robot (%s); planned "
+                       "again trusting the swept path and without the %zu sensed point(s): %s",
+                       cut, exploration::toString(plan.done), sensed_obstacles_.size(),
+                       again.ok() ? "a way out" : "still nothing"));
+  if (!again.ok()) return;
+  sensed_obstacles_.clear();
+  plan = std::move(again);
 }
 
 void ExplorationLoop::noteCutOff(const exploration::PlanResult& plan)

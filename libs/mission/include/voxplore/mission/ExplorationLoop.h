@@ -108,6 +108,16 @@ struct ExplorationLoopParams : public mrpt::config::CLoadableOptions
   /// again and again); 0 = never.
   int stagnation_steps = 0;  ///< off by default: 20 cut b13 nbv (omniRob) from 0.843 to 0.594
   double stagnation_min_gain_m2 = 2.0;  ///< [m^2]
+  /// Shut in (issue 12): when the planner finds nothing to do while at least
+  /// this much known free floor is cut off from the robot
+  /// (exploration::cutOffFloorM2), it plans once more trusting the swept
+  /// path ([collision] swept_passage) and without the sensed points in the
+  /// way (they are forgotten when that plan succeeds: the driver senses
+  /// again what is really there). A door narrowed by drift, or by points
+  /// sensed in it, shut the compact robot in a room and ended the run "no
+  /// frontier" with most of the known building beyond it (b5, b9). 0 = off
+  /// [m^2].
+  double cut_off_replan_m2 = 0;
 
   void loadFromConfigFile(const mrpt::config::CConfigFileBase& c, const std::string& s) override;
   void saveToConfigFile(mrpt::config::CConfigFileBase& c, const std::string& s) const override;
@@ -219,6 +229,9 @@ class ExplorationLoop
   void rememberObstacles(const std::vector<Eigen::Vector2d>& points);
   /// The plan's frontiers and known floor into status_ (and known_floor_).
   void noteCutOff(const exploration::PlanResult& plan);
+  /// cut_off_replan_m2: replaces a plan that found nothing by the relaxed one when that finds a way.
+  void replanShutIn(exploration::PlanResult& plan, std::size_t step,
+                    const std::vector<Eigen::Vector2d>& approach);
   void noteFrontiers(const exploration::PlanResult& plan);
   /// The free floor found over the last stagnation_steps planning steps
   /// [m^2]; empty when the rule is off or the run is not that long yet.
