@@ -5,6 +5,7 @@
 #include <mrpt/img/CImage.h>
 #include <octomap/OcTree.h>
 #include <voxplore/apps/ExploreApp.h>
+#include <voxplore/apps/PlanApp.h>
 #include <voxplore/eval/map_accuracy.h>
 #include <voxplore/sim/ground_truth.h>
 #include <voxplore/sim/world_loading.h>
@@ -291,4 +292,44 @@ TEST(Explore, MinClearanceIsTheDistanceAlsoAtTheFootprintsCorners)
   EXPECT_NEAR(side.clearance_m, 0.03, 1.5e-3);
   EXPECT_EQ(side.index, 1u);
   EXPECT_NEAR(side.pose_world.x(), beside.x(), 1e-12);
+}
+
+TEST(Explore, TheLastPlanningStepsAreKeptAndPlanAgainAsInTheRun)
+{
+  // [explore] keep_plan_inputs = 2: plans/ holds the last two steps' inputs,
+  // and voxplore-plan plans the last one again to the run's own target.
+  const auto out = outDir("keep_plans");
+  std::string ini = test::readFile(VOXPLORE_SOURCE_DIR "/config/explore.ini");
+  const std::string key = "keep_plan_inputs        = 0";
+  ASSERT_NE(ini.find(key), std::string::npos);
+  ini.replace(ini.find(key), key.size(), "keep_plan_inputs        = 2");
+  fs::create_directories(out);
+  const auto ini_path = (fs::path(out) / "explore_keep.ini").string();
+  std::ofstream(ini_path) << ini;
+  auto o = options(out);
+  o.config = ini_path;
+  o.max_steps = 4;
+  const auto s = apps::ExploreApp{}.execute(o);
+  ASSERT_EQ(s.steps, 4u);
+  const fs::path plans = fs::path(out) / "plans";
+  for (const char* f : {"step_003.txt", "step_003.txt.ot", "step_004.txt", "step_004.txt.ot"})
+    EXPECT_TRUE(fs::is_regular_file(plans / f)) << f;
+  for (const char* f : {"step_001.txt", "step_002.txt", "step_002.txt.ot"})
+    EXPECT_FALSE(fs::exists(plans / f)) << f;
+  // The run's step-4 target, from coverage.csv (columns target_x, target_y).
+  std::ifstream csv(fs::path(out) / "coverage.csv");
+  std::string header, row, last;
+  std::getline(csv, header);
+  while (std::getline(csv, row)) last = row;
+  std::vector<std::string> cols;
+  for (std::stringstream ss(last); std::getline(ss, row, ',');) cols.push_back(row);
+  ASSERT_GT(cols.size(), 8u);
+  apps::PlanOptions po;
+  po.inputs = (plans / "step_004.txt").string();
+  po.config = (fs::path(out) / "params.ini").string();
+  std::ostringstream report;
+  const auto r = apps::PlanApp{}.execute(po, report);
+  ASSERT_TRUE(r.ok()) << report.str();
+  EXPECT_NEAR(r.target.x(), std::stod(cols[7]), 0.0015) << report.str();
+  EXPECT_NEAR(r.target.y(), std::stod(cols[8]), 0.0015) << report.str();
 }

@@ -103,6 +103,8 @@ void ExploreParams::loadFromConfigFile(const mrpt::config::CConfigFileBase& c, c
 {
   mission::ExplorationLoopParams::loadFromConfigFile(c, s);
   MRPT_LOAD_CONFIG_VAR(write_step_images, bool, c, s);
+  MRPT_LOAD_CONFIG_VAR(keep_plan_inputs, int, c, s);
+  common::requireValid(keep_plan_inputs >= 0, c, s, "keep_plan_inputs", "must be >= 0");
   MRPT_LOAD_CONFIG_VAR(step_image_scale, int, c, s);
   MRPT_LOAD_CONFIG_VAR(gt_floor_res_m, double, c, s);
   MRPT_LOAD_CONFIG_VAR(coverage_yaw_bins, int, c, s);
@@ -123,6 +125,7 @@ void ExploreParams::saveToConfigFile(mrpt::config::CConfigFileBase& c, const std
 {
   mission::ExplorationLoopParams::saveToConfigFile(c, s);
   MRPT_SAVE_CONFIG_VAR(write_step_images, c, s);
+  MRPT_SAVE_CONFIG_VAR(keep_plan_inputs, c, s);
   MRPT_SAVE_CONFIG_VAR(step_image_scale, c, s);
   MRPT_SAVE_CONFIG_VAR(gt_floor_res_m, c, s);
   MRPT_SAVE_CONFIG_VAR(coverage_yaw_bins, c, s);

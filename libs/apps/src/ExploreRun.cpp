@@ -12,6 +12,8 @@
 #include "ExploreApp_internal.h"
 #include "ExploreRun.h"
 
+#include <filesystem>
+
 namespace voxplore::apps
 {
 ExploreRun::ExploreRun(
@@ -158,6 +160,24 @@ void ExploreRun::onMessage(const std::string& line)
 std::string ExploreRun::stopReason()
 {
   return interruptRequested() ? "interrupted" : std::string();
+}
+
+void ExploreRun::onPlanInputs(const exploration::PlanInputs& inputs, const octomap::OcTree& V)
+{
+  const int keep = cfg_.explore.keep_plan_inputs;
+  if (keep <= 0) return;
+  namespace fs = std::filesystem;
+  const fs::path dir = fs::path(out_dir_) / "plans";
+  fs::create_directories(dir);
+  const auto name = [&](uint64_t step) { return dir / mrpt::format("step_%03u.txt", static_cast<unsigned>(step + 1)); };
+  exploration::writePlanInputs(name(inputs.step).string(), inputs, V);
+  if (inputs.step >= static_cast<uint64_t>(keep))
+  {
+    const fs::path old = name(inputs.step - static_cast<uint64_t>(keep));
+    std::error_code ec;
+    fs::remove(old, ec);
+    fs::remove(old.string() + ".ot", ec);
+  }
 }
 
 void ExploreRun::onPlan(const exploration::PlanResult& plan, double plan_ms,

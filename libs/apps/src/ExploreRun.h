@@ -48,6 +48,7 @@ class ExploreRun : public mission::Listener
   void onStop(const mission::Scan& scan, const mapping::StopReport& rep) override;
   void onPlan(const exploration::PlanResult& plan, double plan_ms,
               const mission::ExplorationStatus& status) override;
+  void onPlanInputs(const exploration::PlanInputs& inputs, const octomap::OcTree& V) override;
   void onRobotStep() override;
   void onMessage(const std::string& line) override;
   std::string stopReason() override;

@@ -182,6 +182,11 @@ void ExplorationLoop::loop()
     if (params_.approach_replanned)
       for (const auto& [c, n] : plans_)
         if (n > 0) approach.push_back(c);
+    if (listener_)
+      listener_->onPlanInputs(exploration::PlanInputs{slam_.currentPose(), step, blacklist_,
+                                                      sensed_obstacles_, approach, swept_,
+                                                      planner_.projection.region},
+                              slam_.octomap().tree());
     auto plan = exploration::plan(slam_.octomap().tree(), slam_.currentPose(), planner_,
                                   blacklist_, step, swept_, sensed_obstacles_, approach);
     if (!plan.ok() && params_.cut_off_replan_m2 > 0) replanShutIn(plan, step, approach);

@@ -18,6 +18,9 @@ namespace voxplore::apps
 struct ExploreParams : public mission::ExplorationLoopParams
 {
   bool write_step_images = true;    ///< steps/step_NNN.png (renderPlan) at every step
+  /// plans/step_NNN.txt + .ot (exploration::writePlanInputs) of the last this
+  /// many planning steps, for voxplore-plan; the map is 10-60 MB a step. 0 = none
+  int keep_plan_inputs = 0;
   int step_image_scale = 4;         ///< pixels per grid cell of the step images
   double gt_floor_res_m = 0.05;     ///< resolution of the ground-truth free floor (coverage_2d) [m]
   int coverage_yaw_bins = 72;       ///< coverage_2d: yaw bins over [0, 180) deg of the footprint's configuration space (2..128)

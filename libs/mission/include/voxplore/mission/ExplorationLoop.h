@@ -25,6 +25,7 @@
 #include <mrpt/obs/CSensoryFrame.h>
 #include <mrpt/poses/CPose2D.h>
 #include <voxplore/exploration/Planner.h>
+#include <voxplore/exploration/plan_inputs.h>
 #include <voxplore/mapping/SlamIcp.h>
 #include <voxplore/navigation/DriverParams.h>
 #include <voxplore/navigation/RobotInterface.h>
@@ -162,6 +163,12 @@ class Listener
   /// @brief After each planning step, before its waypoints are driven.
   virtual void onPlan(const exploration::PlanResult& /*plan*/, double /*plan_ms*/,
                       const ExplorationStatus& /*status*/)
+  {
+  }
+  /// @brief Before each planning step: exactly what the planner is given
+  ///        besides its parameters (exploration::writePlanInputs saves it).
+  virtual void onPlanInputs(const exploration::PlanInputs& /*inputs*/,
+                            const octomap::OcTree& /*V*/)
   {
   }
   /// @brief After every RobotInterface::step() of a drive.

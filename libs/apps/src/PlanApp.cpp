@@ -1,0 +1,107 @@
+#include <mrpt/3rdparty/tclap/CmdLine.h>
+#include <mrpt/core/bits_math.h>
+#include <mrpt/core/format.h>
+#include <octomap/OcTree.h>
+#include <voxplore/apps/PlanApp.h>
+#include <voxplore/apps/app_common.h>
+#include <voxplore/common/config.h>
+#include <voxplore/exploration/plan_inputs.h>
+
+#include <iostream>
+#include <memory>
+
+namespace voxplore::apps
+{
+namespace
+{
+const char* kDescription =
+    "voxplore-plan: plans one step of a voxplore-explore run again, from the inputs the run saved "
+    "(plans/step_NNN.txt and its .ot map, written with [explore] keep_plan_inputs = N) and the "
+    "run's params.ini, and prints every stage: the frontiers (length, the opening they face, "
+    "travel distance, room), why each one tried was skipped, the known floor cut off from the "
+    "robot, the target and its path, the timings. Change a key in a copy of params.ini to see "
+    "what it would have planned.";
+}  // namespace
+
+int PlanApp::run(int argc, const char* const* argv)
+{
+  return runGuarded("voxplore-plan", [&]() {
+    TCLAP::CmdLine cmd(kDescription, ' ', "0.1");
+    TCLAP::ValueArg<std::string> inputs("i", "inputs", "plans/step_NNN.txt of a run", true, "",
+                                        "FILE", cmd);
+    TCLAP::ValueArg<std::string> config("c", "config", "The run's params.ini (planner sections)",
+                                        true, "", "INI", cmd);
+    TCLAP::ValueArg<std::string> png("p", "png", "Write the step image here", false, "", "PNG", cmd);
+    TCLAP::ValueArg<int> scale("", "scale", "Pixels per grid cell of the image (default 4)", false,
+                               4, "N", cmd);
+    TCLAP::SwitchArg no_bl("", "ignore-blacklist", "Plan as if no target had been given up", cmd);
+    TCLAP::SwitchArg no_so("", "ignore-sensed", "Plan without the points the driver sensed", cmd);
+    if (!cmd.parse(argc, const_cast<const char**>(argv)))
+      return exitCodeAfterFailedParse(argc, argv);
+    PlanOptions o;
+    o.inputs = inputs.getValue();
+    o.config = config.getValue();
+    o.png = png.getValue();
+    o.scale = scale.getValue();
+    o.ignore_blacklist = no_bl.getValue();
+    o.ignore_sensed = no_so.getValue();
+    if (o.scale < 1) throw std::runtime_error("--scale must be >= 1");
+    execute(o, std::cout);
+    return 0;
+  });
+}
+
+exploration::PlanResult PlanApp::execute(const PlanOptions& o, std::ostream& out)
+{
+  const auto cfg = common::openIniFile(o.config);
+  exploration::PlannerParams params;
+  params.load(*cfg);
+  std::unique_ptr<octomap::OcTree> V;
+  exploration::PlanInputs in = exploration::readPlanInputs(o.inputs, V);
+  if (!in.region.empty()) params.projection.region = in.region;
+  if (o.ignore_blacklist) in.blacklist.clear();
+  if (o.ignore_sensed) in.sensed_obstacles.clear();
+  const auto r = exploration::plan(*V, in.robot, params, in.blacklist, in.step, in.swept,
+                                   in.sensed_obstacles, in.approach);
+  out << mrpt::format("step %llu: robot (%.3f, %.3f, %.1f deg), %zu blacklisted, %zu sensed, %zu "
+                      "to approach, %zu swept poses; model %s\n",
+                      static_cast<unsigned long long>(in.step + 1), in.robot.x(), in.robot.y(),
+                      mrpt::RAD2DEG(in.robot.phi()), in.blacklist.size(), in.sensed_obstacles.size(),
+                      in.approach.size(), in.swept.size(), r.footprint ? "footprint" : "circle");
+  if (r.rooms)
+    out << mrpt::format("rooms: %zu, the robot's %d\n", r.rooms->area_m2.size(),
+                        static_cast<int>(r.robot_room));
+  if (r.frontiers)
+  {
+    const auto& fs = r.frontiers->frontiers;
+    out << fs.size() << " frontier(s):\n";
+    for (std::size_t i = 0; i < fs.size(); ++i)
+    {
+      std::string skipped;
+      for (std::size_t k = 0; k < r.skipped_frontiers.size(); ++k)
+        if (r.skipped_frontiers[k] == i)
+          skipped = std::string(", skipped: ") + exploration::toString(r.skip_reasons[k]);
+      out << mrpt::format("  %3zu (%.3f, %.3f): %.2f m, opening %.2f m, %.2f m away, room %d%s%s\n",
+                          i, fs[i].center.x(), fs[i].center.y(), fs[i].size_m, fs[i].opening_m,
+                          fs[i].distance_m, i < r.frontier_rooms.size() ? r.frontier_rooms[i] : -1,
+                          skipped.c_str(), r.frontier && r.frontier->id == fs[i].id ? ", chosen" : "");
+    }
+    if (r.ground && r.space)
+      out << mrpt::format("known floor cut off from the robot: %.1f m^2\n",
+                          exploration::cutOffFloorM2(*r.ground, *r.space, *r.frontiers));
+  }
+  out << (r.ok() ? "plan: " : std::string("done (") + exploration::toString(r.done) + "): ")
+      << r.message << "\n";
+  if (r.ok())
+    out << mrpt::format("target (%.3f, %.3f, %.1f deg), %zu waypoints, %zu samples\n", r.target.x(),
+                        r.target.y(), mrpt::RAD2DEG(r.target.phi()), r.waypoints.size(),
+                        r.samples.size());
+  out << mrpt::format("ms: projection %.1f, collision %.1f, frontiers %.1f, rooms %.1f, tour %.1f, "
+                      "sampling %.1f, rating %.1f, path %.1f, total %.1f\n",
+                      r.ms.projection, r.ms.collision, r.ms.frontiers, r.ms.rooms, r.ms.tour,
+                      r.ms.sampling, r.ms.rating, r.ms.path, r.ms.total);
+  if (!o.png.empty()) exploration::renderPlan(r, in.robot, o.png, {}, o.scale);
+  return r;
+}
+
+}  // namespace voxplore::apps
