@@ -105,14 +105,14 @@ bool isFrontierCell(const Search& s, int i)
   return bordersOpenUnknown(s, i);
 }
 
-/// Footprint model: the frontier cells grown, along known free cells that
-/// border open unknown, by up to `grow_cells` 8-steps (the rectangle reaches
-/// a door's middle only; the door's whole width is its frontier).
-void growFrontier(const Search& s, std::vector<uint8_t>& is_frontier, int grow_cells)
+/// Spreads the labels (>= 0; -1: none) of `label` breadth-first, by up to
+/// `grow_cells` 8-steps, over unlabelled known free cells that border open
+/// unknown: a cell takes the label of the cell that reached it first.
+void growAlongOpenBorder(const Search& s, std::vector<int32_t>& label, int grow_cells)
 {
   std::vector<int> front, next;
-  for (std::size_t i = 0; i < is_frontier.size(); ++i)
-    if (is_frontier[i]) front.push_back(static_cast<int>(i));
+  for (std::size_t i = 0; i < label.size(); ++i)
+    if (label[i] >= 0) front.push_back(static_cast<int>(i));
   for (int step = 0; step < grow_cells && !front.empty(); ++step)
   {
     next.clear();
@@ -124,13 +124,25 @@ void growFrontier(const Search& s, std::vector<uint8_t>& is_frontier, int grow_c
         const int x = cx + kDx[k], y = cy + kDy[k];
         if (x < 0 || y < 0 || x >= s.nx || y >= s.ny) continue;
         const int j = x + y * s.nx;
-        if (is_frontier[j] || !bordersOpenUnknown(s, j)) continue;
-        is_frontier[j] = 1;
+        if (label[j] >= 0 || !bordersOpenUnknown(s, j)) continue;
+        label[j] = label[i];
         next.push_back(j);
       }
     }
     front.swap(next);
   }
+}
+
+/// Footprint model: the frontier cells grown, along known free cells that
+/// border open unknown, by up to `grow_cells` 8-steps (the rectangle reaches
+/// a door's middle only; the door's whole width is its frontier).
+void growFrontier(const Search& s, std::vector<uint8_t>& is_frontier, int grow_cells)
+{
+  std::vector<int32_t> label(is_frontier.size(), -1);
+  for (std::size_t i = 0; i < is_frontier.size(); ++i)
+    if (is_frontier[i]) label[i] = 0;
+  growAlongOpenBorder(s, label, grow_cells);
+  for (std::size_t i = 0; i < is_frontier.size(); ++i) is_frontier[i] = label[i] >= 0;
 }
 
 /// Fills size, distance, centroid and center of a frontier from its cells.
@@ -211,36 +223,16 @@ std::vector<std::vector<Cell>> splitFrontier(const Search& s, const std::vector<
 void measureOpenings(const Search& s, std::vector<Frontier>& frontiers, int grow_cells, double res)
 {
   std::vector<int32_t> owner(s.dist.size(), -1);
-  std::vector<int> front, next;
-  std::vector<std::size_t> count(frontiers.size(), 0);
   for (std::size_t k = 0; k < frontiers.size(); ++k)
     for (const Cell& c : frontiers[k].cells)
     {
-      const int i = c.cx + c.cy * s.nx;
-      if (owner[i] >= 0) continue;
-      owner[i] = static_cast<int32_t>(k);
-      count[k]++;
-      front.push_back(i);
+      int32_t& o = owner[static_cast<std::size_t>(c.cx + c.cy * s.nx)];
+      if (o < 0) o = static_cast<int32_t>(k);
     }
-  for (int step = 0; step < grow_cells && !front.empty(); ++step)
-  {
-    next.clear();
-    for (const int i : front)
-    {
-      const int cx = i % s.nx, cy = i / s.nx;
-      for (int k = 0; k < 8; ++k)
-      {
-        const int x = cx + kDx[k], y = cy + kDy[k];
-        if (x < 0 || y < 0 || x >= s.nx || y >= s.ny) continue;
-        const int j = x + y * s.nx;
-        if (owner[j] >= 0 || !bordersOpenUnknown(s, j)) continue;
-        owner[j] = owner[i];
-        count[static_cast<std::size_t>(owner[i])]++;
-        next.push_back(j);
-      }
-    }
-    front.swap(next);
-  }
+  growAlongOpenBorder(s, owner, grow_cells);
+  std::vector<std::size_t> count(frontiers.size(), 0);
+  for (const int32_t o : owner)
+    if (o >= 0) count[static_cast<std::size_t>(o)]++;
   for (std::size_t k = 0; k < frontiers.size(); ++k)
     frontiers[k].opening_m = static_cast<double>(count[k]) * res;
 }
