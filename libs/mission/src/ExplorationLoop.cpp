@@ -344,7 +344,14 @@ void ExplorationLoop::replanShutIn(exploration::PlanResult& plan, std::size_t st
 {
   if (!plan.ground || !plan.space || !plan.frontiers) return;
   const double cut = exploration::cutOffFloorM2(*plan.ground, *plan.space, *plan.frontiers);
-  if (cut < params_.cut_off_replan_m2) return;
+  // Shut in: most of the known floor lies beyond the robot's reach (an
+  // ordinary end leaves 4-8 % cut off: corners, under tables, behind
+  // passages narrower than the robot).
+  const auto& st = plan.ground->state;
+  const double known = st.getResolution() * st.getResolution() *
+                       static_cast<double>(std::count(st.data().begin(), st.data().end(),
+                                                      exploration::GroundState::Free));
+  if (cut < params_.cut_off_replan_m2 || cut < 0.5 * known) return;
   exploration::PlannerParams relaxed = planner_;
   relaxed.collision.swept_passage = true;
   auto again = exploration::plan(slam_.octomap().tree(), slam_.currentPose(), relaxed, blacklist_,

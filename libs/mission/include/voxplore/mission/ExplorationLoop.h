@@ -110,8 +110,8 @@ struct ExplorationLoopParams : public mrpt::config::CLoadableOptions
   int stagnation_steps = 0;  ///< off by default: 20 cut b13 nbv (omniRob) from 0.843 to 0.594
   double stagnation_min_gain_m2 = 2.0;  ///< [m^2]
   /// Shut in (issue 12): when the planner finds nothing to do while at least
-  /// this much known free floor is cut off from the robot
-  /// (exploration::cutOffFloorM2), it plans once more trusting the swept
+  /// this much known free floor, and more than half of it, is cut off from
+  /// the robot (exploration::cutOffFloorM2), it plans once more trusting the swept
   /// path ([collision] swept_passage) and without the sensed points in the
   /// way (they are forgotten when that plan succeeds: the driver senses
   /// again what is really there). A door narrowed by drift, or by points
