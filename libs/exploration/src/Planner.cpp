@@ -344,12 +344,11 @@ PlanResult plan(
     if (!why)
     {
       std::ostringstream os;
-      os << "frontier " << *fi << " (" << r.frontier->size_m << " m"
-         << (p.sampling.judge_opening ? ", opening " + std::to_string(r.frontier->opening_m).substr(0, 4) + " m" : "")
-         << ", " << r.frontier->distance_m
-         << " m away" << (r.approached ? ", approached" : "") << "): target (" << r.target.x()
-         << ", " << r.target.y() << "), path " << r.path->length_m << " m in "
-         << r.waypoints.size() << " waypoints";
+      os << "frontier " << *fi << " (" << r.frontier->size_m << " m";
+      if (p.sampling.judge_opening) os << ", opening " << r.frontier->opening_m << " m";
+      os << ", " << r.frontier->distance_m << " m away" << (r.approached ? ", approached" : "")
+         << "): target (" << r.target.x() << ", " << r.target.y() << "), path "
+         << r.path->length_m << " m in " << r.waypoints.size() << " waypoints";
       r.message = os.str();
       break;
     }

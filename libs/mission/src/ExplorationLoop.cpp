@@ -29,6 +29,22 @@ struct RunStopped
   std::string reason;
 };
 
+/// The free floor known in G [m^2].
+double knownFloorM2(const exploration::GroundGrid& g)
+{
+  const auto& st = g.state;
+  return st.getResolution() * st.getResolution() *
+         static_cast<double>(std::count(st.data().begin(), st.data().end(),
+                                        exploration::GroundState::Free));
+}
+
+/// exploration::cutOffFloorM2 of a plan's layers (0 without them) [m^2].
+double cutOffFloorM2(const exploration::PlanResult& plan)
+{
+  if (!plan.ground || !plan.space || !plan.frontiers) return 0;
+  return exploration::cutOffFloorM2(*plan.ground, *plan.space, *plan.frontiers);
+}
+
 }  // namespace
 
 void ExplorationLoopParams::loadFromConfigFile(const mrpt::config::CConfigFileBase& c,
@@ -189,7 +205,12 @@ void ExplorationLoop::loop()
                               slam_.octomap().tree());
     auto plan = exploration::plan(slam_.octomap().tree(), slam_.currentPose(), planner_,
                                   blacklist_, step, swept_, sensed_obstacles_, approach);
-    if (!plan.ok() && params_.cut_off_replan_m2 > 0) replanShutIn(plan, step, approach);
+    double cut_off_m2 = 0;  // known floor cut off from the robot, when the planner found nothing
+    if (!plan.ok())
+    {
+      cut_off_m2 = cutOffFloorM2(plan);
+      if (params_.cut_off_replan_m2 > 0) replanShutIn(plan, cut_off_m2, step, approach);
+    }
     const double plan_s = tic.Tac();
     status_.compute_s += plan_s;
     status_.steps = step + 1;
@@ -199,7 +220,7 @@ void ExplorationLoop::loop()
     if (!plan.ok())
     {
       status_.termination_reason = exploration::toString(plan.done);
-      noteCutOff(plan);
+      noteCutOff(cut_off_m2);
       return;
     }
     if (const auto gain = stagnationGain(); gain && *gain < params_.stagnation_min_gain_m2)
@@ -339,42 +360,37 @@ void ExplorationLoop::rememberObstacles(const std::vector<Eigen::Vector2d>& poin
     message(std::to_string(added) + " sensed point(s) in the way the map did not hold: occupied for the planner");
 }
 
-void ExplorationLoop::replanShutIn(exploration::PlanResult& plan, std::size_t step,
-                                   const std::vector<Eigen::Vector2d>& approach)
+void ExplorationLoop::replanShutIn(exploration::PlanResult& plan, double cut_off_m2,
+                                   std::size_t step, const std::vector<Eigen::Vector2d>& approach)
 {
-  if (!plan.ground || !plan.space || !plan.frontiers) return;
-  const double cut = exploration::cutOffFloorM2(*plan.ground, *plan.space, *plan.frontiers);
   // Shut in: most of the known floor lies beyond the robot's reach (an
   // ordinary end leaves 4-8 % cut off: corners, under tables, behind
   // passages narrower than the robot).
-  const auto& st = plan.ground->state;
-  const double known = st.getResolution() * st.getResolution() *
-                       static_cast<double>(std::count(st.data().begin(), st.data().end(),
-                                                      exploration::GroundState::Free));
-  if (cut < params_.cut_off_replan_m2 || cut < 0.5 * known) return;
+  if (!plan.ground || cut_off_m2 < params_.cut_off_replan_m2 ||
+      cut_off_m2 < 0.5 * knownFloorM2(*plan.ground))
+    return;
   exploration::PlannerParams relaxed = planner_;
   relaxed.collision.swept_passage = true;
   auto again = exploration::plan(slam_.octomap().tree(), slam_.currentPose(), relaxed, blacklist_,
                                  step, swept_, {}, approach);
   message(mrpt::format("shut in: %.0f m^2 of known floor cut off from the robot (%s); planned "
                        "again trusting the swept path and without the %zu sensed point(s): %s",
-                       cut, exploration::toString(plan.done), sensed_obstacles_.size(),
+                       cut_off_m2, exploration::toString(plan.done), sensed_obstacles_.size(),
                        again.ok() ? "a way out" : "still nothing"));
   if (!again.ok()) return;
   sensed_obstacles_.clear();
   plan = std::move(again);
 }
 
-void ExplorationLoop::noteCutOff(const exploration::PlanResult& plan)
+void ExplorationLoop::noteCutOff(double cut_off_m2)
 {
-  if (!plan.ground || !plan.space || !plan.frontiers) return;
-  status_.known_floor_cut_off_m2 = exploration::cutOffFloorM2(*plan.ground, *plan.space, *plan.frontiers);
+  status_.known_floor_cut_off_m2 = cut_off_m2;
   // Under a few m^2 it is the floor beside furniture legs and in corners.
-  if (status_.known_floor_cut_off_m2 >= 5.0)
+  if (cut_off_m2 >= 5.0)
     message(mrpt::format("%.0f m^2 of the %.0f m^2 of known free floor are cut off from the robot: "
                          "the planner's map closes the way there (a door narrowed or with unknown "
                          "jambs after drift, or a passage narrower than the planner's robot)",
-                         status_.known_floor_cut_off_m2, status_.known_floor_m2));
+                         cut_off_m2, status_.known_floor_m2));
 }
 
 void ExplorationLoop::noteFrontiers(const exploration::PlanResult& plan)
@@ -384,11 +400,7 @@ void ExplorationLoop::noteFrontiers(const exploration::PlanResult& plan)
     for (const auto& f : plan.frontiers->frontiers)
       status_.frontiers_left.emplace_back(f.center, f.size_m);
   if (!plan.ground) return;
-  const auto& st = plan.ground->state;
-  const double cell = st.getResolution() * st.getResolution();
-  status_.known_floor_m2 =
-      cell * static_cast<double>(std::count(st.data().begin(), st.data().end(),
-                                            exploration::GroundState::Free));
+  status_.known_floor_m2 = knownFloorM2(*plan.ground);
   known_floor_.push_back(status_.known_floor_m2);
 }
 

@@ -234,11 +234,13 @@ class ExplorationLoop
   /// Keeps the points a drive was blocked by (DriveResult::blocking_points):
   /// the planner marks them occupied from the next step on.
   void rememberObstacles(const std::vector<Eigen::Vector2d>& points);
-  /// The plan's frontiers and known floor into status_ (and known_floor_).
-  void noteCutOff(const exploration::PlanResult& plan);
-  /// cut_off_replan_m2: replaces a plan that found nothing by the relaxed one when that finds a way.
-  void replanShutIn(exploration::PlanResult& plan, std::size_t step,
+  /// The end's known floor cut off from the robot into status_ (and a message from 5 m^2).
+  void noteCutOff(double cut_off_m2);
+  /// cut_off_replan_m2: replaces a plan that found nothing, with `cut_off_m2`
+  /// of known floor cut off, by the relaxed one when that finds a way.
+  void replanShutIn(exploration::PlanResult& plan, double cut_off_m2, std::size_t step,
                     const std::vector<Eigen::Vector2d>& approach);
+  /// The plan's frontiers and known floor into status_ (and known_floor_).
   void noteFrontiers(const exploration::PlanResult& plan);
   /// The free floor found over the last stagnation_steps planning steps
   /// [m^2]; empty when the rule is off or the run is not that long yet.
