@@ -170,6 +170,73 @@ TEST(PlanarIcp, CorridorIsDegenerateAlongItsAxisAndKeepsOdometryThere)
   EXPECT_GT(rr.info_ratio, 0.1);
 }
 
+TEST(PlanarIcp, ATurningStepInACorridorTrustsTheDoorJambOverItsOdometry)
+{
+  // A corridor (walls 0.15 m thick, as in the generated buildings) with
+  // the door of a room 2 m ahead. Stop B turned 80 deg on a 0.5 m step, and its
+  // odometry is 15 cm long along the corridor (MRPT's motion model: about
+  // 0.1 m std for such a turn; the campaign's compact runs had 10-26 cm).
+  // The walls fix B across the corridor, only the jambs along it: the scene
+  // is degenerate by the information ratio. Keeping odometry along the axis
+  // (the pre-fusion rule) keeps the 15 cm; fusing it by its std follows the
+  // jambs. A straight 0.5 m step (std 1 cm) in the featureless long_corridor
+  // still keeps its odometry: the fused pose does not slide along the axis.
+  sim::TriangleMesh mesh;
+  const float h = 2.5f, t = 0.15f;
+  const auto wall = [&](float x0, float y0, float x1, float y1)
+  { mesh.addBox({(x0 + x1) / 2, (y0 + y1) / 2, h / 2}, {x1 - x0, y1 - y0, h}); };
+  wall(-8.0f, -1.0f - t, 14.0f, -1.0f);  // south wall
+  wall(-8.0f, 1.0f, 2.0f, 1.0f + t);     // north wall, west of the door
+  wall(2.9f, 1.0f, 14.0f, 1.0f + t);     // ... east of it
+  wall(0.5f, 4.0f, 4.5f, 4.0f + t);      // a room behind the door
+  wall(0.5f - t, 1.0f + t, 0.5f, 4.0f);
+  wall(4.5f, 1.0f + t, 4.5f + t, 4.0f);
+  const sim::RayCaster caster(mesh);
+  const CPose2D A(0.0, 0.0, 0.0), B(0.5, 0.0, mrpt::DEG2RAD(80.0));
+  mapping::Metaview m;  // A turning on the spot, as explorations do: no gaps between the cameras
+  for (double yaw : {0.0, 15.0, 30.0})
+  {
+    const CPose2D a(A.x(), A.y(), mrpt::DEG2RAD(yaw));
+    m.insert(cloudAt(caster, a, true).points, a);
+  }
+  const auto cB = cloudAt(caster, B, true);
+  const CPose2D guess(B.x() + 0.15, B.y() + 0.02, B.phi() + mrpt::DEG2RAD(1.0));
+  mapping::IcpParams p;
+  const double turn_std = mapping::odometryStdXy(B - A, p);
+  EXPECT_GT(turn_std, 0.08);
+  p.degenerate_fusion = false;
+  const auto kept = mapping::alignPlanar(m.footprint(), cB.points, guess, p, &m.footprintViewpoints(), turn_std);
+  p.degenerate_fusion = true;
+  const auto fused = mapping::alignPlanar(m.footprint(), cB.points, guess, p, &m.footprintViewpoints(), turn_std);
+  std::cout << "[ corridor+door ] info ratio " << fused.info_ratio << ", odometry std " << turn_std
+            << " m; kept: x " << kept.pose.x() << ", fused: x " << fused.pose.x() << " (truth " << B.x()
+            << ", odometry " << guess.x() << ")\n";
+  ASSERT_TRUE(kept.degenerate) << kept.info_ratio;
+  ASSERT_TRUE(fused.degenerate) << fused.info_ratio;
+  ASSERT_TRUE(kept.accepted && fused.accepted) << kept.reason << " / " << fused.reason;
+  EXPECT_NEAR(kept.pose.x(), guess.x(), 0.01) << "odometry kept whole along the axis";
+  EXPECT_NEAR(fused.pose.x(), B.x(), 0.03) << "the jamb and the room behind the door fix the position along the axis";
+  EXPECT_NEAR(fused.pose.y(), B.y(), 0.01);
+  EXPECT_NEAR(mrpt::math::wrapToPi(fused.pose.phi() - B.phi()), 0.0, mrpt::DEG2RAD(0.3));
+  EXPECT_NE(fused.reason.find("fused"), std::string::npos) << fused.reason;
+
+  // The featureless corridor with a straight step: odometry stays.
+  const auto world = sim::loadWorld(test::sourceDir() + "/simulated_worlds/long_corridor.world",
+                                    CPose2D(12.0, 1.25, 0.0));
+  sim::RayCaster corridor(world.mesh);
+  mapping::Metaview mc;
+  mc.insert(cloudAt(corridor, CPose2D(12.0, 1.25, 0.0)).points, CPose2D());
+  const auto cC = cloudAt(corridor, CPose2D(12.5, 1.25, 0.0));
+  const CPose2D straight(0.5, 0.0, 0.0), guess_c(0.5 + 0.03, 0.06, mrpt::DEG2RAD(1.0));
+  const double straight_std = mapping::odometryStdXy(straight, p);
+  EXPECT_LT(straight_std, 0.011);
+  const auto rc = mapping::alignPlanar(mc.footprint(), cC.points, guess_c, p, &mc.footprintViewpoints(),
+                                       straight_std);
+  ASSERT_TRUE(rc.degenerate && rc.accepted) << rc.info_ratio << " " << rc.reason;
+  EXPECT_NEAR(rc.pose.x(), guess_c.x(), 0.01) << "the featureless axis keeps its odometry";
+  EXPECT_NEAR(rc.pose.y(), 0.0, 0.01) << "corrected across the corridor";
+}
+
 TEST(PlanarIcp, AWallSeenFromItsOtherSideDoesNotSlideOntoTheFaceSeenFirst)
 {
   // Two rooms split by a 0.15 m wall (faces x = 0 and x = 0.15) with a

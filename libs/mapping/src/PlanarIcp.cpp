@@ -37,6 +37,11 @@ void IcpParams::loadFromConfigFile(const mrpt::config::CConfigFileBase& c, const
   MRPT_LOAD_CONFIG_VAR(confirm_min_goodness, double, c, s);
   MRPT_LOAD_CONFIG_VAR(degeneracy_check, bool, c, s);
   MRPT_LOAD_CONFIG_VAR(degeneracy_ratio, double, c, s);
+  MRPT_LOAD_CONFIG_VAR(degenerate_fusion, bool, c, s);
+  MRPT_LOAD_CONFIG_VAR(odometry_std_xy_per_m, double, c, s);
+  MRPT_LOAD_CONFIG_VAR(odometry_std_xy_per_rad, double, c, s);
+  MRPT_LOAD_CONFIG_VAR(odometry_std_xy_min_m, double, c, s);
+  MRPT_LOAD_CONFIG_VAR(pair_std_m, double, c, s);
   MRPT_LOAD_CONFIG_VAR(odometry_prior_pairs, double, c, s);
   MRPT_LOAD_CONFIG_VAR(odometry_prior_step_m, double, c, s);
   MRPT_LOAD_CONFIG_VAR(same_side_only, bool, c, s);
@@ -71,6 +76,10 @@ void IcpParams::loadFromConfigFile(const mrpt::config::CConfigFileBase& c, const
   requireValid(odometry_prior_step_m > 0, c, s, "odometry_prior_step_m", "must be > 0");
   requireValid(degeneracy_ratio >= 0 && degeneracy_ratio < 1, c, s, "degeneracy_ratio",
                "must be in [0, 1)");
+  requireValid(odometry_std_xy_per_m >= 0, c, s, "odometry_std_xy_per_m", "must be >= 0");
+  requireValid(odometry_std_xy_per_rad >= 0, c, s, "odometry_std_xy_per_rad", "must be >= 0");
+  requireValid(odometry_std_xy_min_m > 0, c, s, "odometry_std_xy_min_m", "must be positive");
+  requireValid(pair_std_m > 0, c, s, "pair_std_m", "must be positive");
   requireValid(normal_radius_m > 0, c, s, "normal_radius_m", "must be positive");
   requireValid(normal_radius_small_m >= 0 && normal_radius_small_m < normal_radius_m, c, s,
                "normal_radius_small_m", "must be in [0, normal_radius_m)");
@@ -107,6 +116,11 @@ void IcpParams::saveToConfigFile(mrpt::config::CConfigFileBase& c, const std::st
   MRPT_SAVE_CONFIG_VAR(confirm_min_goodness, c, s);
   MRPT_SAVE_CONFIG_VAR(degeneracy_check, c, s);
   MRPT_SAVE_CONFIG_VAR(degeneracy_ratio, c, s);
+  MRPT_SAVE_CONFIG_VAR(degenerate_fusion, c, s);
+  MRPT_SAVE_CONFIG_VAR(odometry_std_xy_per_m, c, s);
+  MRPT_SAVE_CONFIG_VAR(odometry_std_xy_per_rad, c, s);
+  MRPT_SAVE_CONFIG_VAR(odometry_std_xy_min_m, c, s);
+  MRPT_SAVE_CONFIG_VAR(pair_std_m, c, s);
   MRPT_SAVE_CONFIG_VAR(odometry_prior_pairs, c, s);
   MRPT_SAVE_CONFIG_VAR(odometry_prior_step_m, c, s);
   MRPT_SAVE_CONFIG_VAR(same_side_only, c, s);
@@ -124,7 +138,8 @@ void IcpParams::saveToConfigFile(mrpt::config::CConfigFileBase& c, const std::st
 
 IcpResult alignPlanar(
     const mrpt::maps::CPointsMap& reference_map, const mrpt::maps::CPointsMap& cloud_robot,
-    const CPose2D& predicted, const IcpParams& p, const Viewpoints* reference_viewpoints)
+    const CPose2D& predicted, const IcpParams& p, const Viewpoints* reference_viewpoints,
+    double odometry_std_m)
 {
   IcpResult r;
   r.pose = predicted;
@@ -164,8 +179,10 @@ IcpResult alignPlanar(
     radius = icp.options.smallestThresholdDist;
   }
   // Stage 2: point-to-line refinement (ours), radius annealed to d_max_final_m.
+  const double prior_std_m = p.degenerate_fusion ? odometry_std_m : 0.0;
   const auto fine = detail::refinePointToLine(reference_map, cloud_robot, coarse, radius, p, predicted,
-                                              p.same_side_only ? reference_viewpoints : nullptr);
+                                              p.same_side_only ? reference_viewpoints : nullptr,
+                                              prior_std_m);
   r.icp_pose = fine.pose;
   r.iterations += fine.iterations;
   r.converged = fine.converged;
@@ -182,7 +199,8 @@ IcpResult alignPlanar(
   r.degenerate_dir = fine.degenerate_dir;
 
   CPose2D sol = fine.pose;
-  if (r.degenerate)
+  const bool fused = r.degenerate && prior_std_m > 0;
+  if (r.degenerate && !fused)
   {
     // Keep the odometry prediction along the unconstrained direction v:
     // t = t_pred + (I - v v^T) (t_icp - t_pred).
@@ -216,9 +234,18 @@ IcpResult alignPlanar(
   if (r.accepted)
   {
     r.pose = sol;
-    if (r.degenerate) r.reason = "degenerate: odometry kept along one direction";
+    if (fused)
+      r.reason = "degenerate: odometry fused along one direction";
+    else if (r.degenerate)
+      r.reason = "degenerate: odometry kept along one direction";
   }
   return r;
+}
+
+double odometryStdXy(const CPose2D& step, const IcpParams& p)
+{
+  return std::max(p.odometry_std_xy_min_m, p.odometry_std_xy_per_m * std::hypot(step.x(), step.y()) +
+                                               p.odometry_std_xy_per_rad * std::abs(step.phi()));
 }
 
 namespace

@@ -139,7 +139,7 @@ Accum linearise(
 RefineResult refinePointToLine(
     const mrpt::maps::CPointsMap& ref, const mrpt::maps::CPointsMap& cloud,
     const mrpt::poses::CPose2D& start, double radius_start_m, const IcpParams& p,
-    const mrpt::poses::CPose2D& prior, const Viewpoints* viewpoints)
+    const mrpt::poses::CPose2D& prior, const Viewpoints* viewpoints, double prior_std_m)
 {
   if (viewpoints && viewpoints->size() != ref.size())
     throw std::invalid_argument("refinePointToLine: " + std::to_string(viewpoints->size()) +
@@ -172,9 +172,21 @@ RefineResult refinePointToLine(
       a.b.x() += p.odometry_prior_pairs * (res.pose.x() - prior.x());
       a.b.y() += p.odometry_prior_pairs * (res.pose.y() - prior.y());
     }
+    const bool fuse = res.degenerate && prior_std_m > 0;
+    if (fuse)
+    {
+      // The odometry prediction along the weak direction v as a prior of
+      // std prior_std_m, in pair units: residual v.(t - t_prior), weight
+      // (pair_std_m / prior_std_m)^2.
+      const Eigen::Vector2d v = res.degenerate_dir;
+      const double k = std::pow(p.pair_std_m / prior_std_m, 2);
+      const double r = v.x() * (res.pose.x() - prior.x()) + v.y() * (res.pose.y() - prior.y());
+      H.topLeftCorner<2, 2>() += k * v * v.transpose();
+      a.b.head<2>() += k * r * v;
+    }
     H.diagonal().array() += 1e-9 * (H.trace() + 1.0);
     Eigen::Vector3d delta = -H.ldlt().solve(a.b);
-    if (res.degenerate)
+    if (res.degenerate && !fuse)
     {
       const Eigen::Vector2d v = res.degenerate_dir;
       delta.head<2>() -= v * v.dot(delta.head<2>());

@@ -63,7 +63,10 @@ struct RefineResult
 /// @brief Point-to-line Gauss-Newton from `start`, radius annealed from
 ///        `radius_start_m` down to params.d_max_final_m. Along a translation
 ///        direction with information below degeneracy_ratio (when enabled)
-///        no update is made (solution remapping). With
+///        no update is made (solution remapping), unless `prior_std_m` > 0:
+///        then the prior's translation along that direction is a prior of
+///        that standard deviation (weight (pair_std_m / prior_std_m)^2
+///        pairs) and the update is the information-weighted one. With
 ///        params.odometry_prior_pairs > 0 the translation of `prior` (the
 ///        odometry prediction) is a prior of that weight. With `viewpoints`
 ///        (where each reference point was seen from) a cloud point (seen
@@ -72,6 +75,6 @@ struct RefineResult
 RefineResult refinePointToLine(
     const mrpt::maps::CPointsMap& ref, const mrpt::maps::CPointsMap& cloud,
     const mrpt::poses::CPose2D& start, double radius_start_m, const IcpParams& params,
-    const mrpt::poses::CPose2D& prior, const Viewpoints* viewpoints = nullptr);
+    const mrpt::poses::CPose2D& prior, const Viewpoints* viewpoints = nullptr, double prior_std_m = 0.0);
 
 }  // namespace voxplore::mapping::detail

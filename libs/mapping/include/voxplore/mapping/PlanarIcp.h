@@ -39,6 +39,25 @@ struct IcpParams : public mrpt::config::CLoadableOptions
   double confirm_min_goodness = 0.7;          ///< both registrations at least this good
   bool degeneracy_check = true;    ///< detect directions the scene does not constrain
   double degeneracy_ratio = 0.03;  ///< smallest/largest translational information eigenvalue below this = degenerate
+  /// Along a degenerate direction, weigh the scene's weak information
+  /// against the odometry increment's uncertainty (a prior whose standard
+  /// deviation comes from the motion model below) instead of keeping the
+  /// prediction whole. Needs the step's odometry std (alignPlanar's
+  /// `odometry_std_m`; SlamIcp gives it): a turning step's odometry is
+  /// 10-25 cm off along a corridor where a door jamb still fixes the
+  /// position to 1-2 cm (generated buildings, compact robot); a straight
+  /// step in a featureless corridor keeps its odometry as before.
+  bool degenerate_fusion = true;
+  /// The odometry increment's xy standard deviation (MRPT's Gaussian motion
+  /// model, CActionRobotMovement2D, applied to the whole increment):
+  /// max(odometry_std_xy_min_m, per_m x distance + per_rad x |turn|).
+  double odometry_std_xy_per_m = 0.01;    ///< [m per m]
+  double odometry_std_xy_per_rad = 0.0573;  ///< [m per rad]
+  double odometry_std_xy_min_m = 0.005;   ///< [m]
+  /// The standard deviation of one stage-2 pair when it is weighed against
+  /// odometry: the residual noise (about 1 cm) over the square root of the
+  /// share of independent pairs (loop closure's edge_info_scale, 0.05) [m].
+  double pair_std_m = 0.045;
   /// Stage 2 holds the odometry prediction's translation with this weight,
   /// counted in point-to-line pairs along each axis (the cloud has at most
   /// max_points): where the walls say little (along a corridor) the
@@ -122,13 +141,21 @@ struct IcpResult
 ///        matrix at the solution (normals from the metaview) is analysed:
 ///        along a direction whose information is below degeneracy_ratio of
 ///        the strongest one (a featureless corridor) the odometry prediction
-///        is kept and ICP's correction is used only across it. With
+///        is kept and ICP's correction is used only across it; with
+///        degenerate_fusion and `odometry_std_m` > 0 the prediction is
+///        instead a prior of that standard deviation along the direction,
+///        weighed against the scene's information there (pair_std_m per
+///        pair), and the solution is the information-weighted one. With
 ///        `reference_viewpoints` (and same_side_only) stage 2 ignores pairs
 ///        of a cloud point and a reference line seen from opposite sides.
 IcpResult alignPlanar(
     const mrpt::maps::CPointsMap& reference_map, const mrpt::maps::CPointsMap& cloud_robot,
     const mrpt::poses::CPose2D& predicted, const IcpParams& params,
-    const Viewpoints* reference_viewpoints = nullptr);
+    const Viewpoints* reference_viewpoints = nullptr, double odometry_std_m = 0.0);
+
+/// @brief The xy standard deviation of an odometry increment `step` (robot
+///        frame) under params' motion model (odometry_std_xy_*) [m].
+double odometryStdXy(const mrpt::poses::CPose2D& step, const IcpParams& params);
 
 /// @brief Relocalisation after a rejected alignPlanar(): scores seeds on a
 ///        grid round `predicted` (relocalize_radius_m in x, y; relocalize_yaw
