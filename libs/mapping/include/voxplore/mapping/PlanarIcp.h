@@ -21,7 +21,7 @@ struct IcpParams : public mrpt::config::CLoadableOptions
   double alfa = 0.5;               ///< radius annealing factor per convergence (MRPT ALFA)
   int coarse_iterations = 15;      ///< stage 1, mrpt::slam::CICP (point-to-point) iterations; 0 skips it
   int decimation = 5;              ///< stage 1: CICP matches every N-th cloud point
-  int max_iterations = 30;         ///< stage 2, point-to-line Gauss-Newton iterations at most
+  int max_iterations = 30;         ///< stage 2, point-to-line Gauss-Newton iterations at most (3x when a degenerate direction is fused with odometry)
   int max_points = 2000;           ///< stage 2: cloud points used (evenly subsampled)
   double huber_m = 0.02;           ///< stage 2: Huber kernel width on point-to-line residuals [m]
   double point_weight = 0.3;       ///< stage 2: weight of point-to-point pairs (metaview not line-like: legs, corners)
