@@ -113,15 +113,15 @@ void SlamIcp::registerStop(StopReport& rep, const RobotCloud& cloud, bool has_de
     // odometry_prior_step_m; a longer or turning step (odometry error grows
     // with both; a turn counts by a 1 m lever) gets (step / length)^2 of it.
     IcpParams icp = params_.icp;
+    const CPose2D step = rep.predicted - pose_;  // the odometry increment, robot frame
     if (icp.odometry_prior_pairs > 0)
     {
-      const CPose2D step = rep.predicted - pose_;
       const double len = std::hypot(step.x(), step.y()) + std::abs(step.phi()) * 1.0;
       if (len > icp.odometry_prior_step_m)
         icp.odometry_prior_pairs *= std::pow(icp.odometry_prior_step_m / len, 2);
     }
     rep.icp = alignPlanar(metaview_.footprint(), cloud.points, rep.predicted, icp,
-                          &metaview_.footprintViewpoints(), odometryStdXy(rep.predicted - pose_, icp));
+                          &metaview_.footprintViewpoints(), odometryStdXy(step, icp));
     const IcpResult first_try = rep.icp;
     const bool confirmed = !rep.icp.accepted && pending && confirmLargeCorrection(rep, cloud, *pending);
     // ICP ran and was rejected: the prediction may be wrong (an odometry
