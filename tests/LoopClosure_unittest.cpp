@@ -348,7 +348,14 @@ TEST(LoopClosure, RingCorridorReplayClosesTheLoopAndCorrectsEveryOutput)
     }
     EXPECT_EQ(replaced, keys.size()) << "config/replay.ini lacks a key of " << name;
   };
-  iniWith("thesis.ini", {{"same_side_only", "false"}, {"normal_radius_small_m", "0"}});
+  // The OctoMap rebuilt over the stops after a closure, 3 keyframes each,
+  // and (whole.ini) all at the closing stop.
+  iniWith("thesis.ini", {{"same_side_only", "false"},
+                         {"normal_radius_small_m", "0"},
+                         {"octomap_rebuild_per_stop", "3"}});
+  iniWith("whole.ini", {{"same_side_only", "false"},
+                        {"normal_radius_small_m", "0"},
+                        {"octomap_rebuild_per_stop", "0"}});
   iniWith("prior.ini", {{"odometry_prior_pairs", "50"}});
   ASSERT_EQ(run(bin + "/voxplore-replay --config " + dir + "/thesis.ini --rawlog " + dir +
                 "/sim/run.rawlog --out " + dir + "/rep -q"),
@@ -394,6 +401,45 @@ TEST(LoopClosure, RingCorridorReplayClosesTheLoopAndCorrectsEveryOutput)
   const std::string summary((std::istreambuf_iterator<char>(js)), std::istreambuf_iterator<char>());
   EXPECT_NE(summary.find("\"loop_closures\": " + std::to_string(closed)), std::string::npos) << summary;
   EXPECT_EQ(run("bt2vrml " + dir + "/rep/map.bt"), 0);
+
+  // The OctoMap rebuild spread over the stops: 3 keyframes at the closing
+  // stop and at each one after it, until none is left; the map written at
+  // the end is the one rebuilt at once (same keyframes, poses and order:
+  // byte for byte), and the trajectory is the same (ICP uses the metaview).
+  std::size_t spread_stops = 0;
+  for (std::size_t k = 0; k < rows.size(); k++)
+  {
+    if (rows[k].at("maps_rebuilt") != "1") continue;
+    EXPECT_EQ(rows[k].at("octomap_rebuilt_keyframes"), "3") << "stop " << k;
+    std::size_t left = std::stoul(rows[k].at("octomap_rebuild_left"));
+    EXPECT_GT(left, 10u) << "stop " << k;
+    for (std::size_t j = k + 1; j < rows.size() && left > 0 && rows[j].at("maps_rebuilt") != "1"; j++)
+    {
+      // an integrated stop is one more keyframe to take; 3 are taken
+      const std::size_t todo = left + (rows[j].at("integrated") == "1" ? 1u : 0u);
+      const std::size_t now = std::stoul(rows[j].at("octomap_rebuild_left"));
+      EXPECT_EQ(std::stoul(rows[j].at("octomap_rebuilt_keyframes")), std::min<std::size_t>(3, todo))
+          << "stop " << j;
+      EXPECT_EQ(now, todo > 3 ? todo - 3 : 0) << "stop " << j;
+      left = now;
+      spread_stops++;
+    }
+  }
+  EXPECT_GT(spread_stops, 5u);
+  ASSERT_EQ(run(bin + "/voxplore-replay --config " + dir + "/whole.ini --rawlog " + dir +
+                "/sim/run.rawlog --out " + dir + "/rep_whole -q"),
+            0);
+  const auto bytes = [](const std::string& path)
+  {
+    std::ifstream f(path, std::ios::binary);
+    return std::string((std::istreambuf_iterator<char>(f)), std::istreambuf_iterator<char>());
+  };
+  EXPECT_EQ(bytes(dir + "/rep/trajectory_est.tum"), bytes(dir + "/rep_whole/trajectory_est.tum"));
+  const std::string bt = bytes(dir + "/rep/map.bt");
+  EXPECT_GT(bt.size(), 1000u);
+  EXPECT_TRUE(bt == bytes(dir + "/rep_whole/map.bt")) << "the spread rebuild wrote another OctoMap";
+  for (const auto& row : readCsv(dir + "/rep_whole/stops.csv"))
+    EXPECT_EQ(row.at("octomap_rebuild_left"), "0");
 
   // Today's registration (config/replay.ini as it is), and with the
   // odometry prior: the whole loop within a few cm of the truth (measured

@@ -99,6 +99,61 @@ TEST(Metaview, PointReductionKeepsPointsApartAndIgnoresRepeats)
   EXPECT_EQ(all.insert(cloud, CPose2D()), 3000u);
 }
 
+TEST(Metaview, RepositionMovesEachKeyframesPointsWithItsPose)
+{
+  // Two clouds far apart (no point of one within d_min of the other), put in
+  // at drifted poses and moved to the corrected ones: the same points as a
+  // metaview built at the corrected poses, viewpoints included, and the
+  // reduction of a later insert sees the points where they are now.
+  // Lattices 5 cm apart: no pair near d_min (3 cm), so rounding decides nothing.
+  mrpt::maps::CSimplePointsMap a, b;
+  for (int i = 0; i < 12; i++)
+    for (int j = 0; j < 12; j++)
+      for (int k = 0; k < 5; k++)
+      {
+        a.insertPoint(1.0f + 0.05f * i, 0.05f * j, 0.2f + 0.05f * k);
+        b.insertPoint(-1.6f + 0.05f * i, 0.05f * j, 0.2f + 0.05f * k);
+      }
+  mapping::MetaviewParams p;
+  p.d_min_m = 0.03;
+  const CPose2D pa(0, 0, 0), pb(5, 1, 0.4), pa2(0.02, -0.01, 0.01), pb2(5.2, 0.9, 0.45);
+  mapping::Metaview drifted(p), truth(p);
+  drifted.insert(a, pa);
+  drifted.insert(b, pb);
+  truth.insert(a, pa2);
+  truth.insert(b, pb2);
+  ASSERT_EQ(drifted.numBlocks(), 2u);
+  EXPECT_THROW(drifted.reposition({pa2}), std::invalid_argument);
+  drifted.reposition({pa2, pb2});
+  EXPECT_NEAR(drifted.blockPose(1).x(), 5.2, 1e-12);
+  ASSERT_EQ(drifted.size(), truth.size());
+  ASSERT_EQ(drifted.footprint().size(), truth.footprint().size());
+  for (std::size_t i = 0; i < truth.size(); i++)
+  {
+    float x, y, z, tx, ty, tz;
+    drifted.points().getPoint(i, x, y, z);
+    truth.points().getPoint(i, tx, ty, tz);
+    ASSERT_NEAR(x, tx, 1e-4) << i;
+    ASSERT_NEAR(y, ty, 1e-4) << i;
+    ASSERT_EQ(z, tz) << i;
+  }
+  for (std::size_t i = 0; i < truth.footprint().size(); i++)
+  {
+    float x, y, z, tx, ty, tz;
+    drifted.footprint().getPoint(i, x, y, z);
+    truth.footprint().getPoint(i, tx, ty, tz);
+    ASSERT_NEAR(x, tx, 1e-4) << i;
+    ASSERT_NEAR(y, ty, 1e-4) << i;
+    ASSERT_NEAR(drifted.footprintViewpoints()[i].x(), truth.footprintViewpoints()[i].x(), 1e-6);
+    ASSERT_NEAR(drifted.footprintViewpoints()[i].y(), truth.footprintViewpoints()[i].y(), 1e-6);
+  }
+  // The grids follow: cloud b again at its corrected pose adds nothing, at
+  // its old pose (20 cm and 3 deg away) it adds most of its points.
+  EXPECT_EQ(drifted.insert(b, pb2), 0u);
+  EXPECT_GT(drifted.insert(b, pb), truth.insert(b, pb) / 2);
+  EXPECT_EQ(drifted.numBlocks(), 4u);
+}
+
 TEST(PlanarIcp, RecoversKnownTransformForwardAndInverse)
 {
   RoomFixture f;

@@ -55,6 +55,7 @@ class ExploreRun : public mission::Listener
 
  private:
   const mapping::SlamIcp& slam() const { return loop_->slam(); }
+  mapping::SlamIcp& slam() { return loop_->slam(); }
   // --- outputs and metrics (ExploreApp_outputs.cpp) ---
   void openOutputs();
   /// Computes the three ground-truth floors (coverage_2d and the circle figures).

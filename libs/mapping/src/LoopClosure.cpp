@@ -40,6 +40,7 @@ void LoopClosureParams::loadFromConfigFile(const mrpt::config::CConfigFileBase& 
   MRPT_LOAD_CONFIG_VAR(confirm_per_m, double, c, s);
   MRPT_LOAD_CONFIG_VAR_DEGREES(confirm_yaw, c, s);
   MRPT_LOAD_CONFIG_VAR(rebuild_min_shift_m, double, c, s);
+  MRPT_LOAD_CONFIG_VAR(octomap_rebuild_per_stop, int, c, s);
   MRPT_LOAD_CONFIG_VAR(edge_sigma_floor_m, double, c, s);
   MRPT_LOAD_CONFIG_VAR(edge_info_scale, double, c, s);
   MRPT_LOAD_CONFIG_VAR(edge_min_std_m, double, c, s);
@@ -51,6 +52,8 @@ void LoopClosureParams::loadFromConfigFile(const mrpt::config::CConfigFileBase& 
   MRPT_LOAD_CONFIG_VAR(max_iterations, int, c, s);
   using common::requireValid;
   requireValid(min_travel_m >= 0, c, s, "min_travel_m", "must be >= 0 m");
+  requireValid(octomap_rebuild_per_stop >= 0, c, s, "octomap_rebuild_per_stop",
+               "must be >= 0 keyframes (0 = the whole OctoMap at the closing stop)");
   requireValid(search_radius_m > 0, c, s, "search_radius_m", "must be > 0 m");
   requireValid(submap_radius_m >= search_radius_m, c, s, "submap_radius_m",
                "must be >= search_radius_m");
@@ -96,6 +99,7 @@ void LoopClosureParams::saveToConfigFile(mrpt::config::CConfigFileBase& c, const
   MRPT_SAVE_CONFIG_VAR(confirm_per_m, c, s);
   MRPT_SAVE_CONFIG_VAR_DEGREES(confirm_yaw, c, s);
   MRPT_SAVE_CONFIG_VAR(rebuild_min_shift_m, c, s);
+  MRPT_SAVE_CONFIG_VAR(octomap_rebuild_per_stop, c, s);
   MRPT_SAVE_CONFIG_VAR(edge_sigma_floor_m, c, s);
   MRPT_SAVE_CONFIG_VAR(edge_info_scale, c, s);
   MRPT_SAVE_CONFIG_VAR(edge_min_std_m, c, s);

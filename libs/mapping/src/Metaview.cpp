@@ -4,6 +4,9 @@
 #include "cell_key.h"
 
 #include <cmath>
+#include <stdexcept>
+#include <string>
+#include <utility>
 
 namespace voxplore::mapping
 {
@@ -77,6 +80,10 @@ std::size_t Metaview::insert(const mrpt::maps::CPointsMap& cloud_robot, const mr
   // index casts (undefined behaviour): such a pose or point is never inserted.
   constexpr double kFar = 1e6;  // [m]
   const auto usable = [&](double v) { return std::abs(v) < kFar; };  // false for NaN too
+  // Every call is a block (empty when nothing is added), so that blocks
+  // stay one per keyframe for reposition().
+  blocks_.push_back({T_map_robot, static_cast<uint32_t>(points_.size()),
+                     static_cast<uint32_t>(points2d_.size())});
   if (!usable(T_map_robot.x()) || !usable(T_map_robot.y()) || !std::isfinite(T_map_robot.phi()))
     return 0;
   const double c = std::cos(T_map_robot.phi()), s = std::sin(T_map_robot.phi());
@@ -95,7 +102,76 @@ std::size_t Metaview::insert(const mrpt::maps::CPointsMap& cloud_robot, const mr
   }
   points_.mark_as_modified();  // KD-trees rebuilt on next query
   points2d_.mark_as_modified();
+  blocks_.back().end3d = static_cast<uint32_t>(points_.size());
+  blocks_.back().end2d = static_cast<uint32_t>(points2d_.size());
   return points_.size() - before;
+}
+
+void Metaview::rebuildGrid(const mrpt::maps::CSimplePointsMap& pts,
+                           std::unordered_map<uint64_t, std::vector<uint32_t>>& grid,
+                           bool planar) const
+{
+  grid.clear();
+  const double d = params_.d_min_m;
+  if (d <= 0) return;
+  const auto& xs = pts.getPointsBufferRef_x();
+  const auto& ys = pts.getPointsBufferRef_y();
+  const auto& zs = pts.getPointsBufferRef_z();
+  grid.reserve(xs.size());
+  for (std::size_t i = 0; i < xs.size(); i++)
+  {
+    const int64_t iz = planar ? 0 : static_cast<int64_t>(std::floor(zs[i] / d));
+    grid[cellKey(static_cast<int64_t>(std::floor(xs[i] / d)), static_cast<int64_t>(std::floor(ys[i] / d)), iz)]
+        .push_back(static_cast<uint32_t>(i));
+  }
+}
+
+void Metaview::reposition(const std::vector<mrpt::poses::CPose2D>& poses)
+{
+  if (poses.size() != blocks_.size())
+    throw std::invalid_argument("Metaview::reposition: " + std::to_string(poses.size()) +
+                                " poses for " + std::to_string(blocks_.size()) + " blocks");
+  constexpr double kFar = 1e6;  // as insert(): never a coordinate the cell casts overflow on
+  const auto usable = [&](const mrpt::poses::CPose2D& p)
+  { return std::abs(p.x()) < kFar && std::abs(p.y()) < kFar && std::isfinite(p.phi()); };
+  uint32_t begin3d = 0, begin2d = 0;
+  for (std::size_t b = 0; b < blocks_.size(); b++)
+  {
+    Block& blk = blocks_[b];
+    const uint32_t b3 = std::exchange(begin3d, blk.end3d), b2 = std::exchange(begin2d, blk.end2d);
+    if (!usable(poses[b]) || !usable(blk.pose)) continue;  // such a block holds no points
+    // p_new = T_new (+) T_old^-1 (+) p_old: turn by the yaw change about the
+    // old position, then put that position on the new one.
+    const mrpt::poses::CPose2D old = std::exchange(blk.pose, poses[b]);
+    const double dphi = poses[b].phi() - old.phi();
+    if (poses[b].x() == old.x() && poses[b].y() == old.y() && dphi == 0) continue;
+    const double c = std::cos(dphi), s = std::sin(dphi);
+    const auto move = [&](float& x, float& y)
+    {
+      const double lx = x - old.x(), ly = y - old.y();
+      x = static_cast<float>(poses[b].x() + c * lx - s * ly);
+      y = static_cast<float>(poses[b].y() + s * lx + c * ly);
+    };
+    for (uint32_t i = b3; i < blk.end3d; i++)
+    {
+      float x = 0, y = 0, z = 0;
+      points_.getPointFast(i, x, y, z);
+      move(x, y);
+      points_.setPointFast(i, x, y, z);
+    }
+    for (uint32_t i = b2; i < blk.end2d; i++)
+    {
+      float x = 0, y = 0, z = 0;
+      points2d_.getPointFast(i, x, y, z);
+      move(x, y);
+      points2d_.setPointFast(i, x, y, z);
+      viewpoints2d_[i] = Eigen::Vector2f(static_cast<float>(poses[b].x()), static_cast<float>(poses[b].y()));
+    }
+  }
+  points_.mark_as_modified();
+  points2d_.mark_as_modified();
+  rebuildGrid(points_, grid_, false);
+  rebuildGrid(points2d_, grid2d_, true);
 }
 
 }  // namespace voxplore::mapping

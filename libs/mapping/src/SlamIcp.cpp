@@ -277,7 +277,19 @@ StopReport SlamIcp::processStop(
   if (rep.index > 0) travel_m_ += std::hypot(rep.pose.x() - previous_pose.x(), rep.pose.y() - previous_pose.y());
   reports_.push_back(rep);
   // 6. Loop closure (beyond the thesis, 6.2): may correct every pose so far.
+  const bool rebuilding = octomap_rebuild_.has_value();
   closeLoops(reports_.back(), cloud);
+  // An OctoMap rebuild started at an earlier closure takes its next keyframes
+  // (this stop's included); a closure here has restarted it instead.
+  if (rebuilding && !reports_.back().loop.rebuilt)
+  {
+    tic.Tic();
+    auto& r = reports_.back();
+    r.octomap_rebuilt_keyframes =
+        advanceOctomapRebuild(static_cast<std::size_t>(params_.loop_closure.octomap_rebuild_per_stop));
+    r.octomap_rebuild_left = octomapRebuildPending();
+    r.t_octomap_rebuild_ms = 1e3 * tic.Tac();
+  }
   reports_.back().t_total_ms = 1e3 * total.Tac();
   return reports_.back();
 }

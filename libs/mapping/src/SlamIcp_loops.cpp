@@ -4,6 +4,7 @@
 #include <mrpt/system/CTicTac.h>
 #include <voxplore/mapping/SlamIcp.h>
 
+#include <algorithm>
 #include <stdexcept>
 
 namespace voxplore::mapping
@@ -24,8 +25,12 @@ void SlamIcp::closeLoops(StopReport& rep, const RobotCloud& cloud)
   applyCorrection();
   if (rep.loop.graph_shift_max_m > params_.loop_closure.rebuild_min_shift_m)
   {
-    rep.loop.t_rebuild_ms = rebuildMaps();
+    const auto per_stop = static_cast<std::size_t>(params_.loop_closure.octomap_rebuild_per_stop);
+    rep.loop.t_rebuild_ms = rebuildMaps(per_stop);
     rep.loop.rebuilt = true;
+    rep.octomap_rebuilt_keyframes = per_stop == 0 ? loop_.keyframes().size() : per_stop;
+    rep.octomap_rebuild_left = octomapRebuildPending();
+    rep.octomap_rebuilt_keyframes = std::min(rep.octomap_rebuilt_keyframes, loop_.keyframes().size());
   }
   pose_ = reports_.back().pose;
   rep.metaview_size = metaview_.size();
@@ -63,25 +68,69 @@ void SlamIcp::applyCorrection()
   }
 }
 
-double SlamIcp::rebuildMaps()
+double SlamIcp::rebuildMaps(std::size_t octomap_keyframes)
 {
   mrpt::system::CTicTac tic;
   const auto& kfs = loop_.keyframes();
-  Metaview metaview(params_.metaview);
-  for (const auto& kf : kfs) metaview.insert(kf.cloud, kf.pose);
-  OctoMapLayer octomap(params_.octomap);
-  if (!reports_.empty()) octomap.setStartBoxFree(mrpt::poses::CPose3D(reports_.front().pose));
-  for (std::size_t i = 0; i < kfs.size() && i < simplemap_.size(); i++)
+  // The metaview: each keyframe's points moved rigidly with it (the next
+  // registration needs it now; re-inserting every keyframe cost 9 s at
+  // 1,000 keyframes, moving them tens of ms).
+  std::vector<CPose2D> poses;
+  poses.reserve(kfs.size());
+  for (const auto& kf : kfs) poses.push_back(kf.pose);
+  if (metaview_.numBlocks() == poses.size())
+    metaview_.reposition(poses);
+  else  // blocks and keyframes out of step (never in SlamIcp): insert them again
+  {
+    Metaview metaview(params_.metaview);
+    for (const auto& kf : kfs) metaview.insert(kf.cloud, kf.pose);
+    metaview_ = std::move(metaview);
+  }
+  // The OctoMap cannot be moved (no voxel-exact rigid motion of an octree,
+  // and clamped log-odds cannot be taken out again): a new one from the depth
+  // images at the corrected poses, a restart if a rebuild was under way.
+  octomap_rebuild_.emplace(params_.octomap);
+  octomap_rebuild_next_ = 0;
+  if (!reports_.empty())
+    octomap_rebuild_->setStartBoxFree(mrpt::poses::CPose3D(reports_.front().pose));
+  advanceOctomapRebuild(octomap_keyframes == 0 ? kfs.size() : octomap_keyframes);
+  return 1e3 * tic.Tac();
+}
+
+std::size_t SlamIcp::advanceOctomapRebuild(std::size_t n)
+{
+  if (!octomap_rebuild_) return 0;
+  const auto& kfs = loop_.keyframes();
+  const std::size_t end = std::min({kfs.size(), simplemap_.size(), octomap_rebuild_next_ + n});
+  const std::size_t begin = octomap_rebuild_next_;
+  for (; octomap_rebuild_next_ < end; octomap_rebuild_next_++)
   {
     mrpt::poses::CPose3DPDF::Ptr pdf;
     mrpt::obs::CSensoryFrame::Ptr sf;
-    simplemap_.get(i, pdf, sf);
-    const mrpt::poses::CPose3D T(kfs[i].pose);
+    simplemap_.get(octomap_rebuild_next_, pdf, sf);
+    const mrpt::poses::CPose3D T(kfs[octomap_rebuild_next_].pose);
     for (const auto& s : depthScansOf(*sf))  // the depth images, not the tools cloud
-      octomap.insertScan(*s, T);
+      octomap_rebuild_->insertScan(*s, T);
   }
-  metaview_ = std::move(metaview);
-  octomap_ = std::move(octomap);
+  if (octomap_rebuild_next_ >= std::min(kfs.size(), simplemap_.size()))
+  {
+    octomap_ = std::move(*octomap_rebuild_);
+    octomap_rebuild_.reset();
+    octomap_rebuild_next_ = 0;
+  }
+  return end - begin;
+}
+
+std::size_t SlamIcp::octomapRebuildPending() const
+{
+  if (!octomap_rebuild_) return 0;
+  return std::min(loop_.keyframes().size(), simplemap_.size()) - octomap_rebuild_next_;
+}
+
+double SlamIcp::finishMapRebuild()
+{
+  mrpt::system::CTicTac tic;
+  advanceOctomapRebuild(octomapRebuildPending());
   return 1e3 * tic.Tac();
 }
 

@@ -20,7 +20,8 @@ void writeStopsCsv(const std::vector<StopReport>& reports, const std::string& pa
        "loop_searched,loop_consistent,loop_candidate,loop_closed,loop_with_stop,loop_correction_m,"
        "loop_correction_yaw_deg,loop_goodness,graph_shift_max_m,graph_shift_mean_m,maps_rebuilt,"
        "t_cloud_ms,t_icp_ms,t_metaview_ms,t_octomap_ms,t_loop_detect_ms,t_loop_optimize_ms,"
-       "t_loop_rebuild_ms,t_total_ms\n";
+       "t_loop_rebuild_ms,t_total_ms,octomap_rebuilt_keyframes,octomap_rebuild_left,"
+       "t_octomap_rebuild_ms\n";
   f << std::fixed;
   for (const auto& r : reports)
   {
@@ -59,13 +60,16 @@ void writeStopsCsv(const std::vector<StopReport>& reports, const std::string& pa
       << r.loop.graph_shift_max_m << "," << r.loop.graph_shift_mean_m << "," << r.loop.rebuilt
       << "," << std::setprecision(3) << r.t_cloud_ms << "," << r.t_icp_ms << ","
       << r.t_metaview_ms << "," << r.t_octomap_ms << "," << r.loop.t_detect_ms << ","
-      << r.loop.t_optimize_ms << "," << r.loop.t_rebuild_ms << "," << r.t_total_ms << "\n";
+      << r.loop.t_optimize_ms << "," << r.loop.t_rebuild_ms << "," << r.t_total_ms << ","
+      << r.octomap_rebuilt_keyframes << "," << r.octomap_rebuild_left << ","
+      << r.t_octomap_rebuild_ms << "\n";
   }
   if (!f) throw std::runtime_error("write failed: '" + path + "'");
 }
 
-void SlamIcp::saveOutputs(const std::string& dir) const
+void SlamIcp::saveOutputs(const std::string& dir)
 {
+  finishMapRebuild();  // the corrected OctoMap, not the one planning went on with
   namespace fs = std::filesystem;
   const auto p = [&](const char* name) { return (fs::path(dir) / name).string(); };
 

@@ -205,6 +205,14 @@ void ExplorationLoop::loop()
                               slam_.octomap().tree());
     auto plan = exploration::plan(slam_.octomap().tree(), slam_.currentPose(), planner_,
                                   blacklist_, step, swept_, sensed_obstacles_, approach);
+    if (!plan.ok() && slam_.octomapRebuildPending() > 0)
+    {
+      // The OctoMap after a loop closure is still being rebuilt over the
+      // stops: the end is decided on the corrected map, not the old one.
+      slam_.finishMapRebuild();
+      plan = exploration::plan(slam_.octomap().tree(), slam_.currentPose(), planner_, blacklist_,
+                               step, swept_, sensed_obstacles_, approach);
+    }
     double cut_off_m2 = 0;  // known floor cut off from the robot, when the planner found nothing
     if (!plan.ok())
     {

@@ -61,6 +61,12 @@ struct LoopClosureParams : public mrpt::config::CLoadableOptions
   /// The maps are rebuilt from the keyframes when a relaxation moved a
   /// keyframe by more than this [m] (or yaw x 3 m by more than it).
   double rebuild_min_shift_m = 0.02;
+  /// The OctoMap is rebuilt over the following stops, this many keyframes
+  /// re-inserted per stop (the closing stop included), while planning goes
+  /// on with the map as it was plus the new stops at corrected poses; the
+  /// metaview, which the next registration needs, is moved at once. 0 =
+  /// the whole OctoMap at the closing stop (22 s at 1,000 keyframes).
+  int octomap_rebuild_per_stop = 30;
   /// Edge information from the registration's point-to-line information
   /// matrix: J^T J / sigma^2 x edge_info_scale, sigma = max(rms, edge_sigma_floor_m);
   /// the scale < 1 accounts for residuals that are not independent.

@@ -37,6 +37,25 @@ class Metaview
   /// @return the number of points added
   std::size_t insert(const mrpt::maps::CPointsMap& cloud_robot, const mrpt::poses::CPose2D& T_map_robot);
 
+  /// @brief The number of insert() calls so far (one block of points each,
+  ///        empty when nothing was added).
+  std::size_t numBlocks() const { return blocks_.size(); }
+  /// @brief The pose block `i` is placed at.
+  const mrpt::poses::CPose2D& blockPose(std::size_t i) const { return blocks_.at(i).pose; }
+
+  /// @brief After a pose-graph relaxation: moves the points each insert()
+  ///        added rigidly from the pose they were placed at to `poses[i]`
+  ///        (one pose per block, in insert order), with their viewpoints,
+  ///        and rebuilds the reduction grids. Linear in the metaview's
+  ///        points (tens of ms for a million), where inserting every
+  ///        keyframe again checks each of its cloud points against d_min
+  ///        (9 s at 1,000 keyframes, issue 11's benchmark). Not identical
+  ///        to a fresh insert: where two blocks that moved differently meet,
+  ///        points closer than d_min may remain and a point refused near a
+  ///        point that has moved away is not restored (d_min-sized seams).
+  /// @throws std::invalid_argument when poses.size() != numBlocks().
+  void reposition(const std::vector<mrpt::poses::CPose2D>& poses);
+
   /// @brief The 3D points (export, statistics).
   const mrpt::maps::CSimplePointsMap& points() const { return points_; }
   /// @brief The metaview's floor-plane footprint for the planar ICP: the
@@ -59,6 +78,15 @@ class Metaview
   mrpt::maps::CSimplePointsMap points_, points2d_;
   Viewpoints viewpoints2d_;
   std::unordered_map<uint64_t, std::vector<uint32_t>> grid_, grid2d_;  ///< cell -> point indices
+  /// One per insert(): the pose its points were placed at and where they end.
+  struct Block
+  {
+    mrpt::poses::CPose2D pose;
+    uint32_t end3d = 0, end2d = 0;  ///< one past its last point in points_, points2d_
+  };
+  std::vector<Block> blocks_;
+  void rebuildGrid(const mrpt::maps::CSimplePointsMap& pts,
+                   std::unordered_map<uint64_t, std::vector<uint32_t>>& grid, bool planar) const;
   uint64_t cellKey(int64_t ix, int64_t iy, int64_t iz) const;
   bool hasNeighbourWithin(
       const mrpt::maps::CSimplePointsMap& pts,

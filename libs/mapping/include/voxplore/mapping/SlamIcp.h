@@ -74,7 +74,12 @@ struct StopReport
   /// Loop closure at this stop (keyframes only). When `loop.closed`, every
   /// earlier report's pose was corrected and the maps may have been rebuilt.
   LoopEvent loop;
+  /// After a closure, keyframes re-inserted into the OctoMap being rebuilt
+  /// at this stop, and how many are left after it ([loop_closure]
+  /// octomap_rebuild_per_stop).
+  std::size_t octomap_rebuilt_keyframes = 0, octomap_rebuild_left = 0;
   double t_cloud_ms = 0, t_icp_ms = 0, t_metaview_ms = 0, t_octomap_ms = 0, t_total_ms = 0;
+  double t_octomap_rebuild_ms = 0;  ///< re-inserting those keyframes [ms]
 };
 
 /// @brief The SlamIcp process. Not thread-safe; one instance per run.
@@ -116,14 +121,24 @@ class SlamIcp
   std::size_t loopClosures() const { return loop_closures_; }
   double maxGraphShift() const { return max_graph_shift_m_; }
 
-  /// @brief Rebuilds the metaview and the OctoMap from the keyframes at
-  ///        their current poses (after a relaxation); returns its time [ms].
-  double rebuildMaps();
+  /// @brief Moves the metaview to the keyframes' current poses (after a
+  ///        relaxation) and rebuilds the OctoMap from them: at once when
+  ///        `octomap_keyframes` is 0, else only that many keyframes now and
+  ///        the rest over the next stops ([loop_closure]
+  ///        octomap_rebuild_per_stop). Returns its time [ms].
+  double rebuildMaps(std::size_t octomap_keyframes = 0);
+  /// @brief Keyframes still to be re-inserted into the OctoMap being rebuilt
+  ///        (0: octomap() is the map at the corrected poses).
+  std::size_t octomapRebuildPending() const;
+  /// @brief Completes a rebuild in progress (the outputs and the evaluation
+  ///        want the corrected map); returns its time [ms].
+  double finishMapRebuild();
 
   /// @brief Writes map.bt, map.simplemap, metaview.ply, trajectory_est.tum
-  ///        and stops.csv into `dir` (which must exist).
+  ///        and stops.csv into `dir` (which must exist), after completing an
+  ///        OctoMap rebuild in progress.
   /// @throws std::runtime_error naming the file that could not be written.
-  void saveOutputs(const std::string& dir) const;
+  void saveOutputs(const std::string& dir);
 
  private:
   /// Fills the camera checks of `rep` (usable, skipped, missing cameras).
@@ -144,6 +159,9 @@ class SlamIcp
   /// Copies the relaxed keyframe poses into the reports (stops between
   /// keyframes keep their offset to the keyframe before them) and the simplemap.
   void applyCorrection();
+  /// Re-inserts up to `n` more keyframes into the OctoMap being rebuilt and
+  /// swaps it in when it has caught up; returns how many were inserted.
+  std::size_t advanceOctomapRebuild(std::size_t n);
 
   SlamIcpParams params_;
   Metaview metaview_;
@@ -167,6 +185,9 @@ class SlamIcp
   double travel_m_ = 0;  ///< distance travelled along the estimate
   std::size_t loop_closures_ = 0;
   double max_graph_shift_m_ = 0;
+  /// The OctoMap being rebuilt after a closure, and the next keyframe it takes.
+  std::optional<OctoMapLayer> octomap_rebuild_;
+  std::size_t octomap_rebuild_next_ = 0;
 };
 
 /// @brief Writes the per-stop CSV (header + one row per report).

@@ -208,6 +208,7 @@ class ExplorationLoop
 
   const ExplorationStatus& status() const { return status_; }
   const mapping::SlamIcp& slam() const { return slam_; }
+  mapping::SlamIcp& slam() { return slam_; }
   /// @brief The estimated poses of the robot (map frame, 5 cm apart): the
   ///        planner's swept floor.
   const exploration::SweptPath& sweptPath() const { return swept_; }
