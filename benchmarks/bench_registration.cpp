@@ -62,8 +62,10 @@ RegistrationErrors measureRegistration(const SlamBenchData& data, const std::fun
       e.step_m = std::hypot(gt.x() - gt_prev.x(), gt.y() - gt_prev.y());
       e.odometry_error_m = std::hypot(predicted.x() - gt.x(), predicted.y() - gt.y());
       const auto& icp = data.params.icp;
-      auto r = mapping::alignPlanar(metaview.footprint(), cloud.points, predicted, icp,
-                                    &metaview.footprintViewpoints());
+      // As SlamIcp::registerStop (without its odometry prior, off by default).
+      auto r = mapping::alignPlanarMultiStart(metaview.footprint(), cloud.points, predicted, icp,
+                                              &metaview.footprintViewpoints(),
+                                              mapping::odometryStdXy(predicted - gt_prev, icp));
       if (!r.accepted && icp.enabled && icp.relocalize && r.iterations > 0)
       {
         r = mapping::relocalizePlanar(metaview.footprint(), cloud.points, predicted, icp,

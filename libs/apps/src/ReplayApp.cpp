@@ -200,7 +200,9 @@ ReplaySummary ReplayApp::execute(const ReplayOptions& opts)
                 << ": no valid depth above the floor in " << rep.cameras_used << " images\n";
     if (rep.loop.closed && !opts.quiet)
       std::cout << "\nvoxplore-replay: stop " << rep.index << ": " << rep.loop.message
-                << (rep.loop.rebuilt ? mrpt::format(" (maps rebuilt in %.0f ms)", rep.loop.t_rebuild_ms)
+                << (rep.loop.rebuilt ? mrpt::format(" (maps corrected in %.0f ms; OctoMap: %zu "
+                                                    "keyframes left to re-insert)",
+                                                    rep.loop.t_rebuild_ms, rep.octomap_rebuild_left)
                                      : std::string())
                 << "\n";
     s.stops++;

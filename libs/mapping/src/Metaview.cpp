@@ -28,10 +28,70 @@ uint64_t Metaview::cellKey(int64_t ix, int64_t iy, int64_t iz) const
   return detail::cellKey(ix, iy, iz);
 }
 
-bool Metaview::hasNeighbourWithin(
-    const mrpt::maps::CSimplePointsMap& pts,
-    const std::unordered_map<uint64_t, std::vector<uint32_t>>& grid, bool planar, float x, float y,
-    float z) const
+namespace detail
+{
+std::size_t CellIndex::slot(uint64_t key) const
+{
+  // splitmix64's finaliser: neighbouring cells spread over the table.
+  uint64_t h = key + 0x9e3779b97f4a7c15ULL;
+  h = (h ^ (h >> 30)) * 0xbf58476d1ce4e5b9ULL;
+  h = (h ^ (h >> 27)) * 0x94d049bb133111ebULL;
+  h ^= h >> 31;
+  const std::size_t mask = keys_.size() - 1;
+  std::size_t s = static_cast<std::size_t>(h) & mask;
+  while (keys_[s] != key && keys_[s] != kFree) s = (s + 1) & mask;
+  return s;
+}
+
+void CellIndex::rehash(std::size_t capacity)
+{
+  std::vector<uint64_t> keys(capacity, kFree);
+  std::vector<uint32_t> heads(capacity, kNone);
+  keys.swap(keys_);
+  heads.swap(heads_);
+  for (std::size_t i = 0; i < keys.size(); i++)
+    if (keys[i] != kFree)
+    {
+      const std::size_t s = slot(keys[i]);
+      keys_[s] = keys[i];
+      heads_[s] = heads[i];
+    }
+}
+
+void CellIndex::clear(std::size_t cells)
+{
+  std::size_t capacity = 1024;
+  while (capacity < 2 * cells) capacity *= 2;  // load factor <= 0.5
+  keys_.assign(capacity, kFree);
+  heads_.assign(capacity, kNone);
+  next_.clear();
+  cells_ = 0;
+}
+
+uint32_t CellIndex::head(uint64_t key) const
+{
+  if (keys_.empty()) return kNone;
+  return heads_[slot(key)];
+}
+
+void CellIndex::add(uint64_t key, uint32_t i)
+{
+  if (keys_.empty()) clear();
+  if (2 * (cells_ + 1) > keys_.size()) rehash(2 * keys_.size());
+  if (next_.size() <= i) next_.resize(static_cast<std::size_t>(i) + 1, kNone);
+  const std::size_t s = slot(key);
+  if (keys_[s] == kFree)
+  {
+    keys_[s] = key;
+    cells_++;
+  }
+  next_[i] = heads_[s];
+  heads_[s] = i;
+}
+}  // namespace detail
+
+bool Metaview::hasNeighbourWithin(const mrpt::maps::CSimplePointsMap& pts, const detail::CellIndex& grid,
+                                  bool planar, float x, float y, float z) const
 {
   // thesis 4.4.2: a point is integrated only if ||m_k - p_i|| > d_min for all m_k in M.
   const double d = params_.d_min_m;
@@ -47,9 +107,8 @@ bool Metaview::hasNeighbourWithin(
     for (int64_t iy = cy - 1; iy <= cy + 1; iy++)
       for (int64_t iz = cz - dz; iz <= cz + dz; iz++)
       {
-        const auto it = grid.find(cellKey(ix, iy, iz));
-        if (it == grid.end()) continue;
-        for (uint32_t idx : it->second)
+        for (uint32_t idx = grid.head(cellKey(ix, iy, iz)); idx != detail::CellIndex::kNone;
+             idx = grid.next(idx))
         {
           const double ex = xs[idx] - x, ey = ys[idx] - y, ez = zs[idx] - z;
           if (ex * ex + ey * ey + ez * ez <= d2) return true;
@@ -58,17 +117,16 @@ bool Metaview::hasNeighbourWithin(
   return false;
 }
 
-bool Metaview::addPoint(
-    mrpt::maps::CSimplePointsMap& pts, std::unordered_map<uint64_t, std::vector<uint32_t>>& grid,
-    bool planar, float x, float y, float z)
+bool Metaview::addPoint(mrpt::maps::CSimplePointsMap& pts, detail::CellIndex& grid, bool planar,
+                        float x, float y, float z)
 {
   const double d = params_.d_min_m;
   if (d > 0)
   {
     if (hasNeighbourWithin(pts, grid, planar, x, y, z)) return false;
     const int64_t iz = planar ? 0 : static_cast<int64_t>(std::floor(z / d));
-    grid[cellKey(static_cast<int64_t>(std::floor(x / d)), static_cast<int64_t>(std::floor(y / d)), iz)]
-        .push_back(static_cast<uint32_t>(pts.size()));
+    grid.add(cellKey(static_cast<int64_t>(std::floor(x / d)), static_cast<int64_t>(std::floor(y / d)), iz),
+             static_cast<uint32_t>(pts.size()));
   }
   pts.insertPointFast(x, y, z);
   return true;
@@ -107,22 +165,20 @@ std::size_t Metaview::insert(const mrpt::maps::CPointsMap& cloud_robot, const mr
   return points_.size() - before;
 }
 
-void Metaview::rebuildGrid(const mrpt::maps::CSimplePointsMap& pts,
-                           std::unordered_map<uint64_t, std::vector<uint32_t>>& grid,
+void Metaview::rebuildGrid(const mrpt::maps::CSimplePointsMap& pts, detail::CellIndex& grid,
                            bool planar) const
 {
-  grid.clear();
-  const double d = params_.d_min_m;
-  if (d <= 0) return;
   const auto& xs = pts.getPointsBufferRef_x();
   const auto& ys = pts.getPointsBufferRef_y();
   const auto& zs = pts.getPointsBufferRef_z();
-  grid.reserve(xs.size());
+  grid.clear(xs.size());  // about one point per cell after the reduction
+  const double d = params_.d_min_m;
+  if (d <= 0) return;
   for (std::size_t i = 0; i < xs.size(); i++)
   {
     const int64_t iz = planar ? 0 : static_cast<int64_t>(std::floor(zs[i] / d));
-    grid[cellKey(static_cast<int64_t>(std::floor(xs[i] / d)), static_cast<int64_t>(std::floor(ys[i] / d)), iz)]
-        .push_back(static_cast<uint32_t>(i));
+    grid.add(cellKey(static_cast<int64_t>(std::floor(xs[i] / d)), static_cast<int64_t>(std::floor(ys[i] / d)), iz),
+             static_cast<uint32_t>(i));
   }
 }
 

@@ -8,6 +8,8 @@
 
 #include <Eigen/Eigenvalues>
 #include <algorithm>
+#include <array>
+#include <optional>
 #include <vector>
 #include <cmath>
 #include <sstream>
@@ -42,6 +44,9 @@ void IcpParams::loadFromConfigFile(const mrpt::config::CConfigFileBase& c, const
   MRPT_LOAD_CONFIG_VAR(odometry_std_xy_per_rad, double, c, s);
   MRPT_LOAD_CONFIG_VAR(odometry_std_xy_min_m, double, c, s);
   MRPT_LOAD_CONFIG_VAR(pair_std_m, double, c, s);
+  MRPT_LOAD_CONFIG_VAR(multi_start_min_std_m, double, c, s);
+  MRPT_LOAD_CONFIG_VAR(multi_start_scale, double, c, s);
+  MRPT_LOAD_CONFIG_VAR(multi_start_margin, double, c, s);
   MRPT_LOAD_CONFIG_VAR(odometry_prior_pairs, double, c, s);
   MRPT_LOAD_CONFIG_VAR(odometry_prior_step_m, double, c, s);
   MRPT_LOAD_CONFIG_VAR(same_side_only, bool, c, s);
@@ -80,6 +85,11 @@ void IcpParams::loadFromConfigFile(const mrpt::config::CConfigFileBase& c, const
   requireValid(odometry_std_xy_per_rad >= 0, c, s, "odometry_std_xy_per_rad", "must be >= 0");
   requireValid(odometry_std_xy_min_m > 0, c, s, "odometry_std_xy_min_m", "must be positive");
   requireValid(pair_std_m > 0, c, s, "pair_std_m", "must be positive");
+  requireValid(multi_start_min_std_m >= 0, c, s, "multi_start_min_std_m", "must be >= 0 m (0 = off)");
+  requireValid(multi_start_scale > 0 && multi_start_scale <= 10, c, s, "multi_start_scale",
+               "must be in (0, 10] stds");
+  requireValid(multi_start_margin >= 0 && multi_start_margin < 1, c, s, "multi_start_margin",
+               "must be in [0, 1)");
   requireValid(normal_radius_m > 0, c, s, "normal_radius_m", "must be positive");
   requireValid(normal_radius_small_m >= 0 && normal_radius_small_m < normal_radius_m, c, s,
                "normal_radius_small_m", "must be in [0, normal_radius_m)");
@@ -121,6 +131,9 @@ void IcpParams::saveToConfigFile(mrpt::config::CConfigFileBase& c, const std::st
   MRPT_SAVE_CONFIG_VAR(odometry_std_xy_per_rad, c, s);
   MRPT_SAVE_CONFIG_VAR(odometry_std_xy_min_m, c, s);
   MRPT_SAVE_CONFIG_VAR(pair_std_m, c, s);
+  MRPT_SAVE_CONFIG_VAR(multi_start_min_std_m, c, s);
+  MRPT_SAVE_CONFIG_VAR(multi_start_scale, c, s);
+  MRPT_SAVE_CONFIG_VAR(multi_start_margin, c, s);
   MRPT_SAVE_CONFIG_VAR(odometry_prior_pairs, c, s);
   MRPT_SAVE_CONFIG_VAR(odometry_prior_step_m, c, s);
   MRPT_SAVE_CONFIG_VAR(same_side_only, c, s);
@@ -139,7 +152,7 @@ void IcpParams::saveToConfigFile(mrpt::config::CConfigFileBase& c, const std::st
 IcpResult alignPlanar(
     const mrpt::maps::CPointsMap& reference_map, const mrpt::maps::CPointsMap& cloud_robot,
     const CPose2D& predicted, const IcpParams& p, const Viewpoints* reference_viewpoints,
-    double odometry_std_m)
+    double odometry_std_m, const CPose2D* start)
 {
   IcpResult r;
   r.pose = predicted;
@@ -157,7 +170,7 @@ IcpResult alignPlanar(
     return r;
   }
   // Stage 1: MRPT's point-to-point ICP, a few iterations, wide radius.
-  CPose2D coarse = predicted;
+  CPose2D coarse = start ? *start : predicted;
   double radius = p.d_max_m;
   if (p.coarse_iterations > 0)
   {
@@ -174,7 +187,7 @@ IcpResult alignPlanar(
     icp.options.skip_cov_calculation = true;
     icp.options.skip_quality_calculation = true;
     mrpt::slam::CICP::TReturnInfo info;
-    coarse = icp.Align(&reference_map, &cloud_robot, predicted, info)->getMeanVal();
+    coarse = icp.Align(&reference_map, &cloud_robot, coarse, info)->getMeanVal();
     r.iterations = info.nIterations;
     radius = icp.options.smallestThresholdDist;
   }
@@ -191,6 +204,7 @@ IcpResult alignPlanar(
   // (the thesis' goodness): a door jamb's normal beside a wall's end took
   // 9 % of a stop's points and rejected the omniRob's first turn.
   r.goodness = fine.used ? double(fine.near) / double(fine.used) : 0.0;
+  r.paired_share = fine.used ? double(fine.pairs) / double(fine.used) : 0.0;
   r.rms_m = fine.rms_m;
   r.pairs = fine.pairs;
   r.info_ratio = fine.info_ratio;
@@ -240,6 +254,42 @@ IcpResult alignPlanar(
       r.reason = "degenerate: odometry kept along one direction";
   }
   return r;
+}
+
+IcpResult alignPlanarMultiStart(
+    const mrpt::maps::CPointsMap& reference_map, const mrpt::maps::CPointsMap& cloud_robot,
+    const CPose2D& predicted, const IcpParams& p, const Viewpoints* reference_viewpoints,
+    double odometry_std_m)
+{
+  IcpResult best = alignPlanar(reference_map, cloud_robot, predicted, p, reference_viewpoints, odometry_std_m);
+  if (p.multi_start_min_std_m <= 0 || odometry_std_m < p.multi_start_min_std_m || !best.accepted ||
+      best.degenerate)
+    return best;
+  const double d = p.multi_start_scale * odometry_std_m;
+  const double bar = best.paired_share + p.multi_start_margin;
+  const std::array<std::array<double, 2>, 4> offsets{{{d, 0}, {-d, 0}, {0, d}, {0, -d}}};
+  std::optional<IcpResult> winner;
+  for (unsigned k = 0; k < offsets.size(); k++)
+  {
+    const CPose2D s(predicted.x() + offsets[k][0], predicted.y() + offsets[k][1], predicted.phi());
+    IcpResult r = alignPlanar(reference_map, cloud_robot, predicted, p, reference_viewpoints,
+                              odometry_std_m, &s);
+    if (!r.accepted || r.degenerate || r.paired_share <= bar) continue;
+    if (!winner || r.paired_share > winner->paired_share)
+    {
+      r.start = k + 1;
+      winner = std::move(r);
+    }
+  }
+  IcpResult out = winner ? std::move(*winner) : std::move(best);
+  out.starts_tried = 1 + static_cast<unsigned>(offsets.size());
+  if (out.start > 0)
+  {
+    std::ostringstream why;
+    why << "start " << out.start << " of " << out.starts_tried << " (" << d << " m off the prediction)";
+    out.reason = out.reason.empty() ? why.str() : out.reason + "; " + why.str();
+  }
+  return out;
 }
 
 double odometryStdXy(const CPose2D& step, const IcpParams& p)

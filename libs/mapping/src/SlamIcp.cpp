@@ -120,8 +120,8 @@ void SlamIcp::registerStop(StopReport& rep, const RobotCloud& cloud, bool has_de
       if (len > icp.odometry_prior_step_m)
         icp.odometry_prior_pairs *= std::pow(icp.odometry_prior_step_m / len, 2);
     }
-    rep.icp = alignPlanar(metaview_.footprint(), cloud.points, rep.predicted, icp,
-                          &metaview_.footprintViewpoints(), odometryStdXy(step, icp));
+    rep.icp = alignPlanarMultiStart(metaview_.footprint(), cloud.points, rep.predicted, icp,
+                                    &metaview_.footprintViewpoints(), odometryStdXy(step, icp));
     const IcpResult first_try = rep.icp;
     const bool confirmed = !rep.icp.accepted && pending && confirmLargeCorrection(rep, cloud, *pending);
     // ICP ran and was rejected: the prediction may be wrong (an odometry

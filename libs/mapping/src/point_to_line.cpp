@@ -120,6 +120,15 @@ Accum linearise(
     else
     {
       // Not line-like (a table leg, a corner): point-to-point, two residuals.
+      // Seen from opposite directions it is not the same surface either: a
+      // wall's end seen from its far side pulled a cloud onto the other face
+      // (willowgarage, compact robot: a 0.68 m step with odometry 6 mm off
+      // registered 11 cm off against the true map).
+      if (views)
+      {
+        const Eigen::Vector2f& v = (*views)[m];
+        if ((v.x() - rx[m]) * (T.x() - px) + (v.y() - ry[m]) * (T.y() - py) < 0) continue;
+      }
       const Eigen::Vector2d r(px - rx[m], py - ry[m]);
       Eigen::Matrix<double, 2, 3> J;
       J << 1, 0, dpx, 0, 1, dpy;

@@ -29,15 +29,6 @@ struct RunStopped
   std::string reason;
 };
 
-/// The free floor known in G [m^2].
-double knownFloorM2(const exploration::GroundGrid& g)
-{
-  const auto& st = g.state;
-  return st.getResolution() * st.getResolution() *
-         static_cast<double>(std::count(st.data().begin(), st.data().end(),
-                                        exploration::GroundState::Free));
-}
-
 /// exploration::cutOffFloorM2 of a plan's layers (0 without them) [m^2].
 double cutOffFloorM2(const exploration::PlanResult& plan)
 {
@@ -156,6 +147,7 @@ const ExplorationStatus& ExplorationLoop::run()
     robot_.stop();
     status_.termination_reason = std::move(stop.reason);
   }
+  slam_.finishMapRebuild();  // whatever ended the run, slam() holds the corrected OctoMap
   status_.elapsed_s = elapsedSeconds();
   return status_;
 }
@@ -272,7 +264,9 @@ void ExplorationLoop::scanAndIntegrate()
     swept_.clear();
     for (const auto& r : slam_.reports()) addSwept(r.pose);
     message("stop " + std::to_string(rep.index) + ": " + rep.loop.message +
-            (rep.loop.rebuilt ? mrpt::format("; maps rebuilt in %.0f ms", rep.loop.t_rebuild_ms)
+            (rep.loop.rebuilt ? mrpt::format("; maps corrected in %.0f ms (OctoMap: %zu keyframes "
+                                             "left to re-insert over the next stops)",
+                                             rep.loop.t_rebuild_ms, rep.octomap_rebuild_left)
                               : std::string()));
   }
   addSwept(rep.pose);
@@ -366,57 +360,6 @@ void ExplorationLoop::rememberObstacles(const std::vector<Eigen::Vector2d>& poin
   }
   if (added)
     message(std::to_string(added) + " sensed point(s) in the way the map did not hold: occupied for the planner");
-}
-
-void ExplorationLoop::replanShutIn(exploration::PlanResult& plan, double cut_off_m2,
-                                   std::size_t step, const std::vector<Eigen::Vector2d>& approach)
-{
-  // Shut in: most of the known floor lies beyond the robot's reach (an
-  // ordinary end leaves 4-8 % cut off: corners, under tables, behind
-  // passages narrower than the robot).
-  if (!plan.ground || cut_off_m2 < params_.cut_off_replan_m2 ||
-      cut_off_m2 < 0.5 * knownFloorM2(*plan.ground))
-    return;
-  exploration::PlannerParams relaxed = planner_;
-  relaxed.collision.swept_passage = true;
-  auto again = exploration::plan(slam_.octomap().tree(), slam_.currentPose(), relaxed, blacklist_,
-                                 step, swept_, {}, approach);
-  message(mrpt::format("shut in: %.0f m^2 of known floor cut off from the robot (%s); planned "
-                       "again trusting the swept path and without the %zu sensed point(s): %s",
-                       cut_off_m2, exploration::toString(plan.done), sensed_obstacles_.size(),
-                       again.ok() ? "a way out" : "still nothing"));
-  if (!again.ok()) return;
-  sensed_obstacles_.clear();
-  plan = std::move(again);
-}
-
-void ExplorationLoop::noteCutOff(double cut_off_m2)
-{
-  status_.known_floor_cut_off_m2 = cut_off_m2;
-  // Under a few m^2 it is the floor beside furniture legs and in corners.
-  if (cut_off_m2 >= 5.0)
-    message(mrpt::format("%.0f m^2 of the %.0f m^2 of known free floor are cut off from the robot: "
-                         "the planner's map closes the way there (a door narrowed or with unknown "
-                         "jambs after drift, or a passage narrower than the planner's robot)",
-                         cut_off_m2, status_.known_floor_m2));
-}
-
-void ExplorationLoop::noteFrontiers(const exploration::PlanResult& plan)
-{
-  status_.frontiers_left.clear();
-  if (plan.frontiers)
-    for (const auto& f : plan.frontiers->frontiers)
-      status_.frontiers_left.emplace_back(f.center, f.size_m);
-  if (!plan.ground) return;
-  status_.known_floor_m2 = knownFloorM2(*plan.ground);
-  known_floor_.push_back(status_.known_floor_m2);
-}
-
-std::optional<double> ExplorationLoop::stagnationGain() const
-{
-  const auto k = static_cast<std::size_t>(params_.stagnation_steps);
-  if (k == 0 || known_floor_.size() <= k) return std::nullopt;
-  return known_floor_.back() - known_floor_[known_floor_.size() - 1 - k];
 }
 
 void ExplorationLoop::addSwept(const mrpt::poses::CPose2D& e)

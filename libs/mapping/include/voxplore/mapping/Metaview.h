@@ -7,7 +7,6 @@
 #include <voxplore/mapping/PlanarIcp.h>
 
 #include <cstdint>
-#include <unordered_map>
 #include <vector>
 
 namespace voxplore::mapping
@@ -20,6 +19,37 @@ struct MetaviewParams : public mrpt::config::CLoadableOptions
   void loadFromConfigFile(const mrpt::config::CConfigFileBase& c, const std::string& s) override;
   void saveToConfigFile(mrpt::config::CConfigFileBase& c, const std::string& s) const override;
 };
+
+namespace detail
+{
+/// @brief Cell key -> the indices of the points in that cell: an
+///        open-addressing hash (linear probing) of each cell's first point,
+///        the rest chained through one `next` entry per point. Our own:
+///        std::unordered_map<key, std::vector<index>> allocated twice per
+///        cell, and rebuilding it for a moved metaview of 2.5 million points
+///        took seconds (issue 11's loops benchmark).
+class CellIndex
+{
+ public:
+  static constexpr uint32_t kNone = ~0u;
+  /// Empties it, with room for about `cells` cells.
+  void clear(std::size_t cells = 0);
+  /// The first point of the cell, kNone if none.
+  uint32_t head(uint64_t key) const;
+  /// The point after `i` in its cell, kNone at the end.
+  uint32_t next(uint32_t i) const { return next_[i]; }
+  /// Adds point `i` (each point once) to cell `key`.
+  void add(uint64_t key, uint32_t i);
+
+ private:
+  static constexpr uint64_t kFree = ~0ull;  // cell keys use 63 bits
+  std::vector<uint64_t> keys_;
+  std::vector<uint32_t> heads_, next_;
+  std::size_t cells_ = 0;
+  std::size_t slot(uint64_t key) const;
+  void rehash(std::size_t capacity);
+};
+}  // namespace detail
 
 /// @brief The metaview point map in the map frame. Point reduction uses our
 ///        own hash grid of d_min cells (MRPT's KD-tree cannot take points
@@ -77,7 +107,7 @@ class Metaview
   MetaviewParams params_;
   mrpt::maps::CSimplePointsMap points_, points2d_;
   Viewpoints viewpoints2d_;
-  std::unordered_map<uint64_t, std::vector<uint32_t>> grid_, grid2d_;  ///< cell -> point indices
+  detail::CellIndex grid_, grid2d_;  ///< d_min cell -> point indices
   /// One per insert(): the pose its points were placed at and where they end.
   struct Block
   {
@@ -85,17 +115,13 @@ class Metaview
     uint32_t end3d = 0, end2d = 0;  ///< one past its last point in points_, points2d_
   };
   std::vector<Block> blocks_;
-  void rebuildGrid(const mrpt::maps::CSimplePointsMap& pts,
-                   std::unordered_map<uint64_t, std::vector<uint32_t>>& grid, bool planar) const;
+  void rebuildGrid(const mrpt::maps::CSimplePointsMap& pts, detail::CellIndex& grid, bool planar) const;
   uint64_t cellKey(int64_t ix, int64_t iy, int64_t iz) const;
-  bool hasNeighbourWithin(
-      const mrpt::maps::CSimplePointsMap& pts,
-      const std::unordered_map<uint64_t, std::vector<uint32_t>>& grid, bool planar, float x,
-      float y, float z) const;
+  bool hasNeighbourWithin(const mrpt::maps::CSimplePointsMap& pts, const detail::CellIndex& grid,
+                          bool planar, float x, float y, float z) const;
   /// @return whether the point was added
-  bool addPoint(
-      mrpt::maps::CSimplePointsMap& pts, std::unordered_map<uint64_t, std::vector<uint32_t>>& grid,
-      bool planar, float x, float y, float z);
+  bool addPoint(mrpt::maps::CSimplePointsMap& pts, detail::CellIndex& grid, bool planar, float x,
+                float y, float z);
 };
 
 }  // namespace voxplore::mapping
