@@ -469,6 +469,7 @@ TEST(PlanarIcp, ATurnWithOdometryFarOffIsRegisteredFromTheBestOfSeveralStarts)
   const mrpt::maps::CSimplePointsMap& cloud = ref;  // the robot at the origin sees it all
   const CPose2D truth(0, 0, 0), predicted(0.3, 0.0, 0.0);
   mapping::IcpParams p;
+  p.multi_start_min_std_m = 0.04;  // off by default
   const double odometry_std = 0.2;
   const auto one = mapping::alignPlanar(ref, cloud, predicted, p, &views, odometry_std);
   const auto best = mapping::alignPlanarMultiStart(ref, cloud, predicted, p, &views, odometry_std);

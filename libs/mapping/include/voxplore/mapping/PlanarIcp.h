@@ -65,8 +65,12 @@ struct IcpParams : public mrpt::config::CLoadableOptions
   /// the prediction's by multi_start_margin. A 0.97 m step
   /// turning 88 deg (odometry 21 cm off) converged 10 cm and 1.1 deg off
   /// (goodness 0.968) even against the true map, where the truth pairs
-  /// 0.998 (willowgarage, compact robot). 0 = one start (the prediction).
-  double multi_start_min_std_m = 0.04;
+  /// 0.998 (willowgarage, compact robot). 0 = one start (the prediction),
+  /// the default: in a map already torn by drift a start pairs more of the
+  /// cloud 20-35 cm off (willowgarage replay: ATE 0.266 m without, 0.349
+  /// with 0.04); in the generated buildings it fixed 19 stops (up to 21
+  /// cm) and worsened 13 (up to 5 cm). BENCHMARKS.md, twelfth session.
+  double multi_start_min_std_m = 0.0;
   double multi_start_scale = 1.5;   ///< the starts' offset in stds
   double multi_start_margin = 0.01; ///< paired share a start must gain over the prediction's result
   /// Stage 2 holds the odometry prediction's translation with this weight,
