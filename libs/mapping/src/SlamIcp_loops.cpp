@@ -73,8 +73,8 @@ double SlamIcp::rebuildMaps(std::size_t octomap_keyframes)
   mrpt::system::CTicTac tic;
   const auto& kfs = loop_.keyframes();
   // The metaview: each keyframe's points moved rigidly with it (the next
-  // registration needs it now; re-inserting every keyframe cost 9 s at
-  // 1,000 keyframes, moving them tens of ms).
+  // registration needs it now; re-inserting every keyframe cost 5.9 s at
+  // 1,000 keyframes, moving them 0.25 s; loops benchmark, one core).
   std::vector<CPose2D> poses;
   poses.reserve(kfs.size());
   for (const auto& kf : kfs) poses.push_back(kf.pose);
