@@ -28,6 +28,25 @@ uint64_t Metaview::cellKey(int64_t ix, int64_t iy, int64_t iz) const
   return detail::cellKey(ix, iy, iz);
 }
 
+uint64_t Metaview::cellOf(float x, float y, float z, bool planar) const
+{
+  const double d = params_.d_min_m;
+  return cellKey(static_cast<int64_t>(std::floor(x / d)), static_cast<int64_t>(std::floor(y / d)),
+                 planar ? 0 : static_cast<int64_t>(std::floor(z / d)));
+}
+
+namespace
+{
+// Non-finite (or astronomically far) coordinates would overflow the cell
+// index casts (undefined behaviour): such a pose or point is never inserted.
+constexpr double kFar = 1e6;  // [m]
+bool usable(double v) { return std::abs(v) < kFar; }  // false for NaN too
+bool usable(const mrpt::poses::CPose2D& p)
+{
+  return usable(p.x()) && usable(p.y()) && std::isfinite(p.phi());
+}
+}  // namespace
+
 namespace detail
 {
 std::size_t CellIndex::slot(uint64_t key) const
@@ -124,9 +143,7 @@ bool Metaview::addPoint(mrpt::maps::CSimplePointsMap& pts, detail::CellIndex& gr
   if (d > 0)
   {
     if (hasNeighbourWithin(pts, grid, planar, x, y, z)) return false;
-    const int64_t iz = planar ? 0 : static_cast<int64_t>(std::floor(z / d));
-    grid.add(cellKey(static_cast<int64_t>(std::floor(x / d)), static_cast<int64_t>(std::floor(y / d)), iz),
-             static_cast<uint32_t>(pts.size()));
+    grid.add(cellOf(x, y, z, planar), static_cast<uint32_t>(pts.size()));
   }
   pts.insertPointFast(x, y, z);
   return true;
@@ -134,16 +151,11 @@ bool Metaview::addPoint(mrpt::maps::CSimplePointsMap& pts, detail::CellIndex& gr
 
 std::size_t Metaview::insert(const mrpt::maps::CPointsMap& cloud_robot, const mrpt::poses::CPose2D& T_map_robot)
 {
-  // Non-finite (or astronomically far) coordinates would overflow the cell
-  // index casts (undefined behaviour): such a pose or point is never inserted.
-  constexpr double kFar = 1e6;  // [m]
-  const auto usable = [&](double v) { return std::abs(v) < kFar; };  // false for NaN too
   // Every call is a block (empty when nothing is added), so that blocks
   // stay one per keyframe for reposition().
   blocks_.push_back({T_map_robot, static_cast<uint32_t>(points_.size()),
                      static_cast<uint32_t>(points2d_.size())});
-  if (!usable(T_map_robot.x()) || !usable(T_map_robot.y()) || !std::isfinite(T_map_robot.phi()))
-    return 0;
+  if (!usable(T_map_robot)) return 0;
   const double c = std::cos(T_map_robot.phi()), s = std::sin(T_map_robot.phi());
   const auto& xs = cloud_robot.getPointsBufferRef_x();
   const auto& ys = cloud_robot.getPointsBufferRef_y();
@@ -172,14 +184,8 @@ void Metaview::rebuildGrid(const mrpt::maps::CSimplePointsMap& pts, detail::Cell
   const auto& ys = pts.getPointsBufferRef_y();
   const auto& zs = pts.getPointsBufferRef_z();
   grid.clear(xs.size());  // about one point per cell after the reduction
-  const double d = params_.d_min_m;
-  if (d <= 0) return;
-  for (std::size_t i = 0; i < xs.size(); i++)
-  {
-    const int64_t iz = planar ? 0 : static_cast<int64_t>(std::floor(zs[i] / d));
-    grid.add(cellKey(static_cast<int64_t>(std::floor(xs[i] / d)), static_cast<int64_t>(std::floor(ys[i] / d)), iz),
-             static_cast<uint32_t>(i));
-  }
+  if (params_.d_min_m <= 0) return;
+  for (std::size_t i = 0; i < xs.size(); i++) grid.add(cellOf(xs[i], ys[i], zs[i], planar), static_cast<uint32_t>(i));
 }
 
 void Metaview::reposition(const std::vector<mrpt::poses::CPose2D>& poses)
@@ -187,9 +193,6 @@ void Metaview::reposition(const std::vector<mrpt::poses::CPose2D>& poses)
   if (poses.size() != blocks_.size())
     throw std::invalid_argument("Metaview::reposition: " + std::to_string(poses.size()) +
                                 " poses for " + std::to_string(blocks_.size()) + " blocks");
-  constexpr double kFar = 1e6;  // as insert(): never a coordinate the cell casts overflow on
-  const auto usable = [&](const mrpt::poses::CPose2D& p)
-  { return std::abs(p.x()) < kFar && std::abs(p.y()) < kFar && std::isfinite(p.phi()); };
   uint32_t begin3d = 0, begin2d = 0;
   for (std::size_t b = 0; b < blocks_.size(); b++)
   {

@@ -28,9 +28,8 @@ void SlamIcp::closeLoops(StopReport& rep, const RobotCloud& cloud)
     const auto per_stop = static_cast<std::size_t>(params_.loop_closure.octomap_rebuild_per_stop);
     rep.loop.t_rebuild_ms = rebuildMaps(per_stop);
     rep.loop.rebuilt = true;
-    rep.octomap_rebuilt_keyframes = per_stop == 0 ? loop_.keyframes().size() : per_stop;
     rep.octomap_rebuild_left = octomapRebuildPending();
-    rep.octomap_rebuilt_keyframes = std::min(rep.octomap_rebuilt_keyframes, loop_.keyframes().size());
+    rep.octomap_rebuilt_keyframes = loop_.keyframes().size() - rep.octomap_rebuild_left;
   }
   pose_ = reports_.back().pose;
   rep.metaview_size = metaview_.size();
@@ -78,14 +77,7 @@ double SlamIcp::rebuildMaps(std::size_t octomap_keyframes)
   std::vector<CPose2D> poses;
   poses.reserve(kfs.size());
   for (const auto& kf : kfs) poses.push_back(kf.pose);
-  if (metaview_.numBlocks() == poses.size())
-    metaview_.reposition(poses);
-  else  // blocks and keyframes out of step (never in SlamIcp): insert them again
-  {
-    Metaview metaview(params_.metaview);
-    for (const auto& kf : kfs) metaview.insert(kf.cloud, kf.pose);
-    metaview_ = std::move(metaview);
-  }
+  metaview_.reposition(poses);  // one block per keyframe: both are the integrated stops
   // The OctoMap cannot be moved (no voxel-exact rigid motion of an octree,
   // and clamped log-odds cannot be taken out again): a new one from the depth
   // images at the corrected poses, a restart if a rebuild was under way.

@@ -117,6 +117,8 @@ class Metaview
   std::vector<Block> blocks_;
   void rebuildGrid(const mrpt::maps::CSimplePointsMap& pts, detail::CellIndex& grid, bool planar) const;
   uint64_t cellKey(int64_t ix, int64_t iy, int64_t iz) const;
+  /// The d_min cell of a point (z ignored when planar).
+  uint64_t cellOf(float x, float y, float z, bool planar) const;
   bool hasNeighbourWithin(const mrpt::maps::CSimplePointsMap& pts, const detail::CellIndex& grid,
                           bool planar, float x, float y, float z) const;
   /// @return whether the point was added
