@@ -245,3 +245,78 @@ TEST(Planner, AReplannedFrontierIsApproachedNotViewedAgain)
   nearest.strategy = Strategy::NearestFrontier;
   EXPECT_FALSE(plan(V, robot, nearest, {}, 0, {}, {}, {fc}).approached);
 }
+
+TEST(Planner, SamplesAreTriedByGainDiscountedByTheirTravel)
+{
+  // The thesis takes the sample with the most gain; with travel_cost_per_m
+  // each sample's gain is discounted by exp(-lambda x its travel distance
+  // over G), and the target is the sample with the best utility.
+  const auto V = doorRoom();
+  const CPose2D robot(-1.5, 0.0, 0.0);
+  const auto by_gain = plan(V, robot, params());
+  ASSERT_TRUE(by_gain.ok()) << by_gain.message;
+  auto p = params();
+  p.sampling.travel_cost_per_m = 1.5;
+  const auto r = plan(V, robot, p);
+  ASSERT_TRUE(r.ok()) << r.message;
+  ASSERT_EQ(r.samples.size(), by_gain.samples.size()) << "the same samples, rated the same";
+  const auto travel = [&](const CPose2D& s) {
+    return double(test::at(r.frontiers->distance_m, s.x(), s.y()));
+  };
+  std::size_t best = 0;
+  double best_u = -1;
+  for (std::size_t i = 0; i < r.samples.size(); i++)
+  {
+    ASSERT_EQ(r.ratings[i].gain, by_gain.ratings[i].gain);
+    ASSERT_GE(travel(r.samples[i]), 0.0) << "samples lie in the reachable space";
+    const double u = r.ratings[i].gain * std::exp(-1.5 * travel(r.samples[i]));
+    if (u > best_u)
+    {
+      best_u = u;
+      best = i;
+    }
+  }
+  EXPECT_EQ(r.target, r.samples[best]);
+  // Here the discount changes the choice: a nearer sample with less gain.
+  EXPECT_NE(r.target, by_gain.target);
+  EXPECT_LT(travel(r.target), travel(by_gain.target));
+  EXPECT_LT(r.ratings[best].gain, r.ratings[*bestRated(by_gain.ratings)].gain);
+}
+
+TEST(Planner, SeveralFrontiersRatedTogetherTheBestViewWins)
+{
+  // A 6 x 4 m room, a 2 m opening in the west wall 1.5 m from the robot (the
+  // nearest frontier) and the east wall open over 3.6 m (4.5 m away). The
+  // thesis views the nearest frontier; with frontiers_rated = 2 both
+  // frontiers' samples are rated and the wide opening's view wins, unless
+  // the travel discount makes the near door worth more.
+  octomap::OcTree V(0.05);
+  test::addRoom(V, -3.0, 3.0, -2.0, 2.0);
+  test::setColumns(V, -3.05, -3.0, -1.0, 1.0, false);
+  test::setColumns(V, 3.0, 3.05, -1.8, 1.8, false);
+  V.updateInnerOccupancy();
+  const CPose2D robot(-1.5, 0.0, 0.0);
+  auto p = params();
+  const auto one = plan(V, robot, p);
+  ASSERT_TRUE(one.ok()) << one.message;
+  ASSERT_EQ(one.frontiers->frontiers.size(), 2u);
+  EXPECT_LT(one.frontier->center.x(), 0.0) << "the nearest frontier, the west door";
+  EXPECT_EQ(one.message.find("rated"), std::string::npos) << one.message;
+  p.sampling.frontiers_rated = 2;
+  const auto two = plan(V, robot, p);
+  ASSERT_TRUE(two.ok()) << two.message;
+  EXPECT_GT(two.frontier->center.x(), 0.0) << "the east opening";
+  EXPECT_GT(two.target.x(), 0.0);
+  EXPECT_NE(two.message.find("best of 2 rated"), std::string::npos) << two.message;
+  EXPECT_GT(two.samples.size(), one.samples.size()) << "both frontiers' samples";
+  EXPECT_EQ(two.frontier->center, two.frontiers->frontiers[two.frontier_index].center);
+  p.sampling.travel_cost_per_m = 3.0;
+  const auto near = plan(V, robot, p);
+  ASSERT_TRUE(near.ok()) << near.message;
+  EXPECT_LT(near.frontier->center.x(), 0.0) << "a steep discount keeps the near door";
+  // The nearest strategy rates nothing and keeps the nearest frontier.
+  p.strategy = Strategy::NearestFrontier;
+  const auto nearest = plan(V, robot, p);
+  ASSERT_TRUE(nearest.ok()) << nearest.message;
+  EXPECT_LT(nearest.frontier->center.x(), 0.0);
+}

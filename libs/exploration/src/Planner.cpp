@@ -131,21 +131,28 @@ double yawTowards(const Eigen::Vector2d& from, const Eigen::Vector2d& to)
   return std::atan2(to.y() - from.y(), to.x() - from.x());
 }
 
-/// Tries one frontier: candidate poses (rated for NBV), then a path to the
-/// best candidate that has one. Fills r on success; else returns why not.
-std::optional<SkipReason> tryFrontier(
-    const octomap::OcTree& V, const CPose2D& robot, const PlannerParams& p, std::size_t fi,
-    uint64_t step, PlanResult& r, std::vector<float>& footprint_cost, bool approach)
+/// A pose to try, with the frontier it looks at and its utility.
+struct Candidate
+{
+  CPose2D pose;
+  std::size_t frontier = 0;
+  double utility = 0;
+};
+
+/// The candidate poses for frontier fi, appended to `out`: the nearest
+/// strategy's (or an approached frontier's) goal, or next-best-view's rated
+/// samples with a gain, whose utility is gain x exp(-travel_cost_per_m x
+/// their travel distance from the robot). Returns why there is none.
+std::optional<SkipReason> candidatesFor(
+    const octomap::OcTree& V, const PlannerParams& p, std::size_t fi, uint64_t step, bool approach,
+    PlanResult& r, std::vector<Candidate>& out)
 {
   const Frontier& f = r.frontiers->frontiers[fi];
-  const Eigen::Vector2d start(robot.x(), robot.y());
-  std::vector<CPose2D> candidates;
   mrpt::system::CTicTac tic;
-  r.approached = approach && p.strategy == Strategy::NextBestView;
-  if (p.strategy == Strategy::NearestFrontier || r.approached)
+  if (p.strategy == Strategy::NearestFrontier || approach)
   {
     std::optional<Eigen::Vector2d> goal;
-    if (r.footprint && p.sampling.view_standoff_m > 0 && !r.approached)
+    if (r.footprint && p.sampling.view_standoff_m > 0 && !approach)
     {
       // A viewing stand-off (SamplingParams::view_standoff_m): the ring of
       // reachable cells that see the frontier, the one nearest its centre.
@@ -166,34 +173,59 @@ std::optional<SkipReason> tryFrontier(
     }
     if (!goal) goal = nearestReachable(*r.frontiers, f.centroid);
     if (!goal) return SkipReason::NoGoal;
-    candidates.emplace_back(goal->x(), goal->y(), yawTowards(*goal, f.center));
+    out.push_back({CPose2D(goal->x(), goal->y(), yawTowards(*goal, f.center)), fi, 1.0});
+    return std::nullopt;
   }
-  else
-  {
-    r.sample_space = sampleSpace(*r.ground, *r.space, *r.frontiers, f, p.sampling);
-    std::seed_seq seq{static_cast<uint32_t>(p.seed), static_cast<uint32_t>(step),
-                      static_cast<uint32_t>(fi)};
-    std::mt19937_64 rng(seq);
-    r.samples = samplePoses(r.space->state, r.sample_space, f, p.sampling, rng);
-    r.ms.sampling += 1e3 * tic.Tac();
-    if (r.samples.empty()) return SkipReason::NoSamples;
-    tic.Tic();
-    r.ratings.clear();
-    for (const auto& s : r.samples) r.ratings.push_back(rateScan(V, s, p.rating));
-    r.ms.rating += 1e3 * tic.Tac();
-    if (!bestRated(r.ratings)) return SkipReason::NoGain;  // nothing to learn around this frontier
-    // Candidates by decreasing gain (stable: ties keep the sampler's order).
-    std::vector<std::size_t> order(r.samples.size());
-    std::iota(order.begin(), order.end(), 0);
-    std::stable_sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) {
-      return r.ratings[a].gain > r.ratings[b].gain;
-    });
-    for (std::size_t i : order)
-      if (r.ratings[i].gain > 0) candidates.push_back(r.samples[i]);
-  }
+  const auto space = sampleSpace(*r.ground, *r.space, *r.frontiers, f, p.sampling);
+  r.sample_space.insert(r.sample_space.end(), space.begin(), space.end());
+  std::seed_seq seq{static_cast<uint32_t>(p.seed), static_cast<uint32_t>(step), static_cast<uint32_t>(fi)};
+  std::mt19937_64 rng(seq);
+  const auto samples = samplePoses(r.space->state, space, f, p.sampling, rng);
+  r.ms.sampling += 1e3 * tic.Tac();
+  if (samples.empty()) return SkipReason::NoSamples;
   tic.Tic();
-  for (const auto& c : candidates)
+  std::vector<ScanRating> ratings;
+  for (const auto& s : samples) ratings.push_back(rateScan(V, s, p.rating));
+  r.ms.rating += 1e3 * tic.Tac();
+  r.samples.insert(r.samples.end(), samples.begin(), samples.end());
+  r.ratings.insert(r.ratings.end(), ratings.begin(), ratings.end());
+  if (!bestRated(ratings)) return SkipReason::NoGain;  // nothing to learn around this frontier
+  const Eigen::Vector2d robot_xy = cellCenter(r.frontiers->distance_m, r.ground->robot);
+  for (std::size_t i = 0; i < samples.size(); ++i)
   {
+    if (ratings[i].gain <= 0) continue;
+    double u = ratings[i].gain;
+    if (p.sampling.travel_cost_per_m > 0)
+    {
+      // Travel over G from the robot (the frontier search's Dijkstra); the
+      // straight line where it has none (not expected: samples are reachable).
+      const Eigen::Vector2d xy(samples[i].x(), samples[i].y());
+      Cell c;
+      double d = (xy - robot_xy).norm();
+      if (cellOf(r.frontiers->distance_m, xy, c))
+      {
+        const float dc = *r.frontiers->distance_m.cellByIndex(c.cx, c.cy);
+        if (dc >= 0) d = dc;
+      }
+      u *= std::exp(-p.sampling.travel_cost_per_m * d);
+    }
+    out.push_back({samples[i], fi, u});
+  }
+  return std::nullopt;
+}
+
+/// Plans a path to the candidates by decreasing utility (stable: ties keep
+/// their order); the first with a path fills r.
+bool pathToBest(const CPose2D& robot, const PlannerParams& p, std::vector<Candidate> candidates,
+                PlanResult& r, std::vector<float>& footprint_cost)
+{
+  mrpt::system::CTicTac tic;
+  std::stable_sort(candidates.begin(), candidates.end(),
+                   [](const Candidate& a, const Candidate& b) { return a.utility > b.utility; });
+  const Eigen::Vector2d start(robot.x(), robot.y());
+  for (const auto& cand : candidates)
+  {
+    const CPose2D& c = cand.pose;
     const Eigen::Vector2d goal(c.x(), c.y());
     // The SE(2) A*'s heuristic, once per step for every candidate.
     if (r.footprint && footprint_cost.empty())
@@ -211,12 +243,13 @@ std::optional<SkipReason> tryFrontier(
       r.waypoint_yaws.assign(r.path->yaws.begin() + first, r.path->yaws.end());
       r.waypoint_narrow.assign(r.path->narrow.begin() + first, r.path->narrow.end());
     }
-    r.frontier = f;
+    r.frontier = r.frontiers->frontiers[cand.frontier];
+    r.frontier_index = cand.frontier;
     r.ms.path += 1e3 * tic.Tac();
-    return std::nullopt;
+    return true;
   }
   r.ms.path += 1e3 * tic.Tac();
-  return SkipReason::NoPath;
+  return false;
 }
 
 /// "n no path, m no gain" over the skipped frontiers.
@@ -320,8 +353,6 @@ PlanResult plan(
   {
     const auto fi = chooseFrontier(fm->frontiers, p.sampling, blacklist, r.skipped_frontiers,
                                    by_tour ? &rank : nullptr, in_room.empty() ? nullptr : &in_room);
-    if (fi && by_tour)
-      r.tour = tours[p.sampling.judgedLength(fm->frontiers[*fi]) > p.sampling.th_f1_m ? 0 : 1];
     if (!fi)
     {
       r.done = r.skipped_frontiers.empty() ? DoneReason::NoReachableFrontier : DoneReason::AllSkipped;
@@ -336,24 +367,57 @@ PlanResult plan(
       r.message = os.str();
       break;
     }
-    const Eigen::Vector2d fc = fm->frontiers[*fi].center;
-    const bool near_approach = std::any_of(approach.begin(), approach.end(), [&](const Eigen::Vector2d& a) {
-      return (a - fc).norm() <= p.sampling.blacklist_radius_m;
-    });
-    const auto why = tryFrontier(V, robot, p, *fi, step, r, footprint_cost, near_approach);
-    if (!why)
+    const auto approached = [&](std::size_t i) {
+      const Eigen::Vector2d fc = fm->frontiers[i].center;
+      return p.strategy == Strategy::NextBestView &&
+             std::any_of(approach.begin(), approach.end(), [&](const Eigen::Vector2d& a) {
+               return (a - fc).norm() <= p.sampling.blacklist_radius_m;
+             });
+    };
+    // The frontiers rated together: the chosen one and, next-best-view with
+    // frontiers_rated > 1, the next ones in the same order (an approached
+    // frontier is tried on its own, as the nearest strategy's).
+    std::vector<std::size_t> batch{*fi};
+    r.approached = approached(*fi);
+    if (p.strategy == Strategy::NextBestView && !r.approached && p.sampling.frontiers_rated > 1)
     {
+      std::vector<std::size_t> skip = r.skipped_frontiers;
+      skip.push_back(*fi);
+      while (batch.size() < static_cast<std::size_t>(p.sampling.frontiers_rated))
+      {
+        const auto fj = chooseFrontier(fm->frontiers, p.sampling, blacklist, skip,
+                                       by_tour ? &rank : nullptr, in_room.empty() ? nullptr : &in_room);
+        if (!fj) break;
+        skip.push_back(*fj);
+        if (!approached(*fj)) batch.push_back(*fj);
+      }
+    }
+    std::vector<Candidate> candidates;
+    std::vector<std::optional<SkipReason>> why(batch.size());
+    r.samples.clear();  // the images show the last batch's
+    r.ratings.clear();
+    r.sample_space.clear();
+    for (std::size_t k = 0; k < batch.size(); ++k)
+      why[k] = candidatesFor(V, p, batch[k], step, r.approached, r, candidates);
+    if (!candidates.empty() && pathToBest(robot, p, std::move(candidates), r, footprint_cost))
+    {
+      if (by_tour)
+        r.tour = tours[p.sampling.judgedLength(*r.frontier) > p.sampling.th_f1_m ? 0 : 1];
       std::ostringstream os;
-      os << "frontier " << *fi << " (" << r.frontier->size_m << " m";
+      os << "frontier " << r.frontier_index << " (" << r.frontier->size_m << " m";
       if (p.sampling.judge_opening) os << ", opening " << r.frontier->opening_m << " m";
-      os << ", " << r.frontier->distance_m << " m away" << (r.approached ? ", approached" : "")
-         << "): target (" << r.target.x() << ", " << r.target.y() << "), path "
+      os << ", " << r.frontier->distance_m << " m away" << (r.approached ? ", approached" : "");
+      if (batch.size() > 1) os << ", best of " << batch.size() << " rated";
+      os << "): target (" << r.target.x() << ", " << r.target.y() << "), path "
          << r.path->length_m << " m in " << r.waypoints.size() << " waypoints";
       r.message = os.str();
       break;
     }
-    r.skipped_frontiers.push_back(*fi);
-    r.skip_reasons.push_back(*why);
+    for (std::size_t k = 0; k < batch.size(); ++k)
+    {
+      r.skipped_frontiers.push_back(batch[k]);
+      r.skip_reasons.push_back(why[k] ? *why[k] : SkipReason::NoPath);
+    }
   }
   r.ms.total = 1e3 * total.Tac();
   return r;

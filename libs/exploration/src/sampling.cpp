@@ -113,6 +113,8 @@ void SamplingParams::loadFromConfigFile(const mrpt::config::CConfigFileBase& c,
   MRPT_LOAD_CONFIG_VAR(view_standoff_m, double, c, s);
   MRPT_LOAD_CONFIG_VAR(sight_blocked_by_unknown, bool, c, s);
   MRPT_LOAD_CONFIG_VAR(judge_opening, bool, c, s);
+  MRPT_LOAD_CONFIG_VAR(travel_cost_per_m, double, c, s);
+  MRPT_LOAD_CONFIG_VAR(frontiers_rated, int, c, s);
   using common::requireValid;
   requireValid(th_f2_m >= 0, c, s, "th_f2_m", "must be >= 0");
   requireValid(th_f1_m >= th_f2_m, c, s, "th_f1_m", "need th_f1_m >= th_f2_m");
@@ -123,6 +125,8 @@ void SamplingParams::loadFromConfigFile(const mrpt::config::CConfigFileBase& c,
   requireValid(min_sample_dist_m >= 0, c, s, "min_sample_dist_m", "must be >= 0");
   requireValid(blacklist_radius_m >= 0, c, s, "blacklist_radius_m", "must be >= 0");
   requireValid(view_standoff_m >= 0, c, s, "view_standoff_m", "must be >= 0");
+  requireValid(travel_cost_per_m >= 0, c, s, "travel_cost_per_m", "must be >= 0");
+  requireValid(frontiers_rated >= 1, c, s, "frontiers_rated", "must be >= 1");
 }
 
 void SamplingParams::saveToConfigFile(mrpt::config::CConfigFileBase& c, const std::string& s) const
@@ -137,6 +141,8 @@ void SamplingParams::saveToConfigFile(mrpt::config::CConfigFileBase& c, const st
   MRPT_SAVE_CONFIG_VAR(view_standoff_m, c, s);
   MRPT_SAVE_CONFIG_VAR(sight_blocked_by_unknown, c, s);
   MRPT_SAVE_CONFIG_VAR(judge_opening, c, s);
+  MRPT_SAVE_CONFIG_VAR(travel_cost_per_m, c, s);
+  MRPT_SAVE_CONFIG_VAR(frontiers_rated, c, s);
 }
 
 std::optional<std::size_t> chooseFrontier(const std::vector<Frontier>& frontiers,

@@ -94,6 +94,7 @@ struct PlanResult
   std::vector<uint8_t> waypoint_narrow;
   mrpt::poses::CPose2D target;         ///< pose to reach (yaw at the frontier)
   std::optional<Frontier> frontier;    ///< the chosen frontier
+  std::size_t frontier_index = 0;      ///< its index in frontiers->frontiers
   std::vector<mrpt::poses::CPose2D> samples;
   std::vector<ScanRating> ratings;     ///< one per sample (NextBestView)
   std::optional<Path> path;

@@ -266,6 +266,16 @@ struct SamplingParams : public mrpt::config::CLoadableOptions
   /// robot's circle reaches 0.1-0.2 m of a 0.9 m door's frontier, below
   /// th_f2, and the room behind it was never entered (b1 compact nbv, 0.88).
   bool judge_opening = false;
+  /// Next-best-view: a sample's utility is its gain x exp(-travel_cost_per_m
+  /// x its travel distance from the robot over G), the information gain
+  /// discounted by the drive to it (Gonzalez-Banos and Latombe's NBV
+  /// utility); candidates are tried by utility. 0 = by gain alone (thesis
+  /// 4.5.5) [1/m].
+  double travel_cost_per_m = 0.0;
+  /// Next-best-view: the samples of this many frontiers (the chosen one and
+  /// the next ones in the same order) are rated together and the best
+  /// utility among them wins; 1 = the chosen frontier only (thesis).
+  int frontiers_rated = 1;
   /// @brief The length the tiers judge frontier f by [m].
   double judgedLength(const Frontier& f) const { return judge_opening ? f.opening_m : f.size_m; }
   void loadFromConfigFile(const mrpt::config::CConfigFileBase& c, const std::string& s) override;
