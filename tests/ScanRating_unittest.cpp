@@ -402,6 +402,8 @@ TEST(ScanRating, ParamsRoundTrip)
   a.height_px = 24;
   a.hfov = mrpt::DEG2RAD(60.0);
   a.vfov = mrpt::DEG2RAD(45.0);
+  a.count_z_min_m = 0.1;
+  a.count_z_max_m = 0.5;
   a.mounts = {CPose3D(0.3, 0.1, 0.5, 0.2, 0.1, 0.0), CPose3D(-0.3, 0, 0.4, M_PI, 0.3, 0.05),
               CPose3D(0, 0.2, 0.45, 1.2, 0, 0)};
   mrpt::config::CConfigFileMemory mem;
@@ -415,6 +417,10 @@ TEST(ScanRating, ParamsRoundTrip)
   EXPECT_EQ(b.height_px, 24);
   EXPECT_NEAR(b.hfov, a.hfov, 1e-12);
   EXPECT_NEAR(b.vfov, a.vfov, 1e-12);
+  EXPECT_DOUBLE_EQ(b.count_z_min_m, 0.1);
+  EXPECT_DOUBLE_EQ(b.count_z_max_m, 0.5);
+  EXPECT_TRUE(b.countBand());
+  EXPECT_FALSE(ScanRatingParams().countBand()) << "off by default (the thesis)";
   ASSERT_EQ(b.mounts.size(), 3u);
   for (std::size_t i = 0; i < 3; i++)
     EXPECT_LT((b.mounts[i].asVectorVal() - a.mounts[i].asVectorVal()).norm(), 1e-9) << i;
@@ -472,3 +478,44 @@ TEST(ScanRating, BrokenParamsThrowWhenRating)
   EXPECT_THROW(rateScan(t, CPose2D(), p), std::invalid_argument);
 }
 
+
+TEST(ScanRating, TheCountingBandLeavesOutTheUnknownBelowTheFloorAndAboveTheBand)
+{
+  // Free space 5 m ahead of a camera at 0.3 m, from the floor to 0.6 m
+  // (what the robot's cameras map), unknown below the floor and above. The
+  // thesis' rating counts the unknown voxels the beams cross below the
+  // floor and above 0.6 m; with the counting band [0.10, 0.50] m (the band G
+  // is projected from) every counted voxel is known: no unknown left.
+  OcTree t(0.05);
+  setBox(t, point3d(-0.5f, -3.0f, 0.0f), point3d(5.0f, 3.0f, 0.6f), t.getClampingThresMinLog());
+  ScanRatingParams p = oneCamera(0.3);
+  p.max_range_m = 4.0;
+  const auto all = rateScan(t, CPose2D(), p);
+  expectSameRating(all, rateScanNaive(t, CPose2D(), p), "no band");
+  EXPECT_GT(all.unknown_voxels, 1000u);
+  p.count_z_min_m = 0.10;
+  p.count_z_max_m = 0.50;
+  const auto band = rateScan(t, CPose2D(), p);
+  expectSameRating(band, rateScanNaive(t, CPose2D(), p), "band");
+  expectSameRating(rateScanPortable(t, CPose2D(), p), rateScanNaive(t, CPose2D(), p), "band, portable");
+  EXPECT_EQ(band.unknown_voxels, 0u);
+  EXPECT_GT(band.voxels, 100u);
+  EXPECT_LT(band.voxels, all.voxels);
+  EXPECT_EQ(band.beams, all.beams) << "the beams are the same; only the counting differs";
+  // The free voxels in the band each count the clamped free entropy.
+  EXPECT_NEAR(band.gain, double(band.voxels) * entropyOf(octomap::probability(t.getClampingThresMinLog())),
+              1e-6 * band.gain);
+  // On the room map (floor returns dropped: unknown below the floor) the band
+  // rates the same with every walker and counts fewer unknown voxels.
+  const OcTree& map = roomMap();
+  ScanRatingParams q;
+  q.beam_reduction = 2;
+  const CPose2D pose(0.5, -0.5, 0.3);
+  const auto room_all = rateScan(map, pose, q);
+  q.count_z_min_m = 0.10;
+  q.count_z_max_m = 0.50;
+  const auto room_band = rateScan(map, pose, q);
+  expectSameRating(room_band, rateScanNaive(map, pose, q), "room, band");
+  expectSameRating(rateScanPortable(map, pose, q), rateScanNaive(map, pose, q), "room, band, portable");
+  EXPECT_LT(room_band.unknown_voxels, room_all.unknown_voxels);
+}

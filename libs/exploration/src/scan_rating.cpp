@@ -189,7 +189,9 @@ ScanRating rateScan(const octomap::OcTree& V, const mrpt::poses::CPose2D& pose,
   }
   if (n[0] * n[1] * n[2] > detail::kMaxWindowCells) return rateScanNaive(V, pose, p);
 
-  detail::VoxelWindow window(V, detail::stopLogOdds(p.th_occ), kmin, n, sc.window);
+  uint32_t count_kz[2] = {detail::VoxelWindow::kCountAll[0], detail::VoxelWindow::kCountAll[1]};
+  if (p.countBand()) detail::countBandKeys(V, p, count_kz);
+  detail::VoxelWindow window(V, detail::stopLogOdds(p.th_occ), kmin, n, sc.window, count_kz);
   detail::Tally tally;
   detail::BeamFeed feed(V, sc.beams, window);
   // VOXPLORE_SCAN_RATING_PORTABLE (any value) forces the portable walker:

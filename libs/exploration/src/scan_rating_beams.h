@@ -31,6 +31,10 @@ void checkRatingParams(const ScanRatingParams& p);
 void virtualBeams(const mrpt::poses::CPose2D& pose, const ScanRatingParams& p,
                   std::vector<VirtualBeam>& out);
 
+/// @brief The absolute z keys [lo, hi] of the voxels holding heights
+///        count_z_min_m and count_z_max_m (clamped to the tree's key range).
+void countBandKeys(const octomap::OcTree& V, const ScanRatingParams& p, uint32_t kz[2]);
+
 /// @brief Log-odds above which a voxel stops a beam: p > th_occ / 255,
 ///        compared in OctoMap's float log-odds.
 inline float stopLogOdds(int th_occ)

@@ -28,6 +28,8 @@ ScanRating rateScanNaive(const octomap::OcTree& V, const mrpt::poses::CPose2D& p
 
   ScanRating out;
   out.beams = beams.size();
+  uint32_t count_kz[2] = {0u, 0xFFFFu};
+  if (p.countBand()) detail::countBandKeys(V, p, count_kz);
   octomap::KeySet visited;
   octomap::KeyRay ray;
   for (const auto& beam : beams)
@@ -39,7 +41,7 @@ ScanRating rateScanNaive(const octomap::OcTree& V, const mrpt::poses::CPose2D& p
     for (const octomap::OcTreeKey& key : ray)
     {
       const octomap::OcTreeNode* node = V.search(key);
-      if (visited.insert(key).second)
+      if (key[2] >= count_kz[0] && key[2] <= count_kz[1] && visited.insert(key).second)
       {
         out.voxels++;
         if (node)

@@ -2,6 +2,7 @@
  * best-rated pose (thesis 4.5.4 "Scan Rating"). */
 #include <mrpt/core/bits_math.h>
 #include <mrpt/poses/CPose3D.h>
+#include <octomap/OcTree.h>
 #include <voxplore/common/camera_mounts.h>
 #include <voxplore/common/config.h>
 
@@ -32,6 +33,8 @@ void ScanRatingParams::loadFromConfigFile(const mrpt::config::CConfigFileBase& c
   MRPT_LOAD_CONFIG_VAR(height_px, int, c, s);
   MRPT_LOAD_CONFIG_VAR_DEGREES(hfov, c, s);
   MRPT_LOAD_CONFIG_VAR_DEGREES(vfov, c, s);
+  MRPT_LOAD_CONFIG_VAR(count_z_min_m, double, c, s);
+  MRPT_LOAD_CONFIG_VAR(count_z_max_m, double, c, s);
   MRPT_LOAD_CONFIG_VAR(num_cameras, int, c, s);
   using common::requireValid;
   requireValid(beam_reduction >= 1, c, s, "beam_reduction", "must be >= 1");
@@ -56,12 +59,22 @@ void ScanRatingParams::saveToConfigFile(mrpt::config::CConfigFileBase& c,
   MRPT_SAVE_CONFIG_VAR(height_px, c, s);
   MRPT_SAVE_CONFIG_VAR_DEGREES(hfov, c, s);
   MRPT_SAVE_CONFIG_VAR_DEGREES(vfov, c, s);
+  MRPT_SAVE_CONFIG_VAR(count_z_min_m, c, s);
+  MRPT_SAVE_CONFIG_VAR(count_z_max_m, c, s);
   MRPT_SAVE_CONFIG_VAR(num_cameras, c, s);
   common::saveCameraMounts(c, s, mounts);
 }
 
 namespace detail
 {
+void countBandKeys(const octomap::OcTree& V, const ScanRatingParams& p, uint32_t kz[2])
+{
+  const double half = V.getResolution() * double(1u << (V.getTreeDepth() - 1));
+  const auto key = [&](double z) { return V.coordToKey(std::clamp(z, -half + 1e-9, half - 1e-9)); };
+  kz[0] = key(p.count_z_min_m);
+  kz[1] = key(p.count_z_max_m);
+}
+
 void checkRatingParams(const ScanRatingParams& p)
 {
   auto require = [](bool ok, const char* what)
@@ -75,6 +88,8 @@ void checkRatingParams(const ScanRatingParams& p)
   require(p.hfov > 0 && p.hfov < M_PI && p.vfov > 0 && p.vfov < M_PI,
           "hfov and vfov must be in (0, pi)");
   require(p.th_occ >= 0 && p.th_occ <= 255, "th_occ must be in 0..255");
+  require(std::isfinite(p.count_z_min_m) && std::isfinite(p.count_z_max_m),
+          "count_z_min_m and count_z_max_m must be finite");
 }
 
 void virtualBeams(const mrpt::poses::CPose2D& pose, const ScanRatingParams& p,

@@ -14,9 +14,11 @@ constexpr uint32_t kMaxEpoch = (1u << (16 - kEpochShift)) - 1;
 
 VoxelWindow::VoxelWindow(const octomap::OcTree& V, float stop_log_odds,
                          const octomap::OcTreeKey& kmin, const std::size_t n[3],
-                         WindowStorage& storage)
+                         WindowStorage& storage, const uint32_t count_kz[2])
     : V_(V), stop_log_odds_(stop_log_odds), nx_(n[0]), nxy_(n[0] * n[1])
 {
+  count_kz_[0] = count_kz[0];
+  count_kz_[1] = count_kz[1];
   for (int i = 0; i < 3; i++) origin_[i] = kmin[i];
   const std::size_t cells = n[0] * n[1] * n[2];
   if (cells > storage.capacity)
@@ -51,6 +53,18 @@ uint32_t VoxelWindow::fill(std::size_t addr)
   // The depth-13 node, a pruned ancestor leaf, or null (unknown): what
   // OcTree::search(key) finds for each voxel of the block.
   fillNode(V_.search(keyOf(corner), V_.getTreeDepth() - 3), corner, 8);
+  // Layers outside the counting band are marked counted: never counted.
+  const uint32_t kz0 = origin_[2] + static_cast<uint32_t>(z & ~std::size_t(7));
+  for (std::size_t dz = 0; dz < 8; dz++)
+  {
+    const uint32_t kz = kz0 + static_cast<uint32_t>(dz);
+    if (kz >= count_kz_[0] && kz <= count_kz_[1]) continue;
+    for (std::size_t dy = 0; dy < 8; dy++)
+    {
+      uint16_t* row = cells_ + corner + nx_ * dy + nxy_ * dz;
+      for (std::size_t dx = 0; dx < 8; dx++) row[dx] = static_cast<uint16_t>(row[dx] | kVisited);
+    }
+  }
   return cells_[addr];
 }
 

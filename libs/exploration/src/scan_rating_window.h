@@ -3,7 +3,8 @@
  * bounding box, filled lazily from the octree one 8x8x8 block at a time.
  *
  * Cell bits: 15..10 epoch of the rating that filled it (an older epoch means
- * "not filled yet"), 9 counted in this rating, 8 stops a beam (above
+ * "not filled yet"), 9 counted in this rating (set when filled outside the
+ * counting band: never counted), 8 stops a beam (above
  * th_occ), 7..0 occupancy class (0 = unknown, 1..254 = a log-odds value
  * interned in this rating, 255 = more distinct values than that: entropy
  * from the tree). */
@@ -46,8 +47,11 @@ struct WindowStorage
 class VoxelWindow
 {
  public:
+  /// `count_kz` [lo, hi]: the absolute z keys whose voxels are counted.
   VoxelWindow(const octomap::OcTree& V, float stop_log_odds, const octomap::OcTreeKey& kmin,
-              const std::size_t n[3], WindowStorage& storage);
+              const std::size_t n[3], WindowStorage& storage,
+              const uint32_t count_kz[2] = kCountAll);
+  static constexpr uint32_t kCountAll[2] = {0u, 0xFFFFu};
 
   std::size_t addrOf(const octomap::OcTreeKey& k) const
   {
@@ -104,6 +108,7 @@ class VoxelWindow
   const float stop_log_odds_;
   const std::size_t nx_, nxy_;
   uint32_t origin_[3];  ///< absolute key of cell 0
+  uint32_t count_kz_[2];  ///< z keys counted: [lo, hi]
   uint16_t* cells_;
   uint32_t epoch_;
   double entropy_[256];

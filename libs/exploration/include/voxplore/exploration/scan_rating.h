@@ -27,6 +27,16 @@ struct ScanRatingParams : public mrpt::config::CLoadableOptions
   int height_px = 48;
   double hfov = 0.6981317007977318;  ///< [rad] (ini: deg) 40 deg
   double vfov = 0.5235987755982988;  ///< [rad] (ini: deg) 30 deg
+  /// Count only the voxels holding heights in [count_z_min_m, count_z_max_m]
+  /// (set it to [projection] z_min_m..z_max_m, the band G and the floor
+  /// coverage are made of); beams still walk and stop everywhere. The
+  /// thesis counts every voxel a beam crosses: the unknown below the floor,
+  /// above the cameras' band and inside walls drew the robot to views that
+  /// found no floor. count_z_max_m <= count_z_min_m = every voxel (thesis) [m].
+  double count_z_min_m = 0.0;
+  double count_z_max_m = 0.0;
+  /// @brief Does the counting band apply?
+  bool countBand() const { return count_z_max_m > count_z_min_m; }
   /// T_robot_camera of each virtual camera (ini: camN_pose = x y z yaw pitch roll, degrees);
   /// default: the omniRob ring (as sim::CameraRigParams).
   std::vector<mrpt::poses::CPose3D> mounts;
@@ -49,7 +59,8 @@ struct ScanRating
 ///        each beam (every beam_reduction-th pixel) walks the voxels from the
 ///        camera until the first voxel above th_occ (included) or max range;
 ///        the gain is the summed entropy H = -(p ln p + (1-p) ln(1-p)) of the
-///        distinct voxels traversed, unknown voxels counting p = 0.5.
+///        distinct voxels traversed (in the counting band, when set), unknown
+///        voxels counting p = 0.5.
 ///        Ours: one DDA per beam on integer keys, one shared voxel cache and
 ///        one visited set per rating (no repeated tree searches).
 ScanRating rateScan(const octomap::OcTree& V, const mrpt::poses::CPose2D& pose, const ScanRatingParams& p);
