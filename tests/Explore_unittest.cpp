@@ -297,7 +297,10 @@ TEST(Explore, MinClearanceIsTheDistanceAlsoAtTheFootprintsCorners)
 TEST(Explore, TheLastPlanningStepsAreKeptAndPlanAgainAsInTheRun)
 {
   // [explore] keep_plan_inputs = 2: plans/ holds the last two steps' inputs,
-  // and voxplore-plan plans the last one again to the run's own target.
+  // and voxplore-plan plans the last one again to the run's own target. The
+  // footprint (not a planner key, set from the robot profile) reaches
+  // voxplore-plan from params.ini's [robot]: without it G lacked the swept
+  // footprint's columns and step 4 here planned to a target 2.4 m away.
   const auto out = outDir("keep_plans");
   std::string ini = test::readFile(VOXPLORE_SOURCE_DIR "/config/explore.ini");
   const std::string key = "keep_plan_inputs        = 0";

@@ -7,6 +7,7 @@
 #include <voxplore/common/config.h>
 #include <voxplore/exploration/plan_inputs.h>
 
+#include <cmath>
 #include <iostream>
 #include <memory>
 
@@ -55,6 +56,23 @@ exploration::PlanResult PlanApp::execute(const PlanOptions& o, std::ostream& out
 {
   const auto cfg = common::openIniFile(o.config);
   exploration::PlannerParams params;
+  // The footprint is not a planner key: voxplore-explore sets it (and r_coll,
+  // unless [collision] r_coll_m is given) from the robot profile, and its
+  // params.ini holds the profile in [robot]. Without it, G lacked the swept
+  // footprint's columns and the step planned again to another target.
+  if (cfg->sectionExists("robot"))
+  {
+    const double l = common::readDoubleStrict(*cfg, "robot", "length_m", 0.0);
+    const double w = common::readDoubleStrict(*cfg, "robot", "width_m", 0.0);
+    common::requireValid(l > 0 && w > 0, *cfg, "robot", "length_m",
+                         "length_m and width_m must be > 0 (the footprint the run planned with)");
+    params.projection.footprint_length_m = params.collision.footprint_length_m = l;
+    params.projection.footprint_width_m = params.collision.footprint_width_m = w;
+    params.collision.r_coll_m = std::hypot(0.5 * l, 0.5 * w);  // as sim::Footprint::circumradius
+  }
+  else
+    out << "note: no [robot] section in " << o.config
+        << ": planning with the default footprint (omniRob), without the swept footprint in G\n";
   params.load(*cfg);
   std::unique_ptr<octomap::OcTree> V;
   exploration::PlanInputs in = exploration::readPlanInputs(o.inputs, V);

@@ -2,6 +2,7 @@
  * distance transforms instead of stamping a disc around every cell. */
 #include <mrpt/config/CConfigFileBase.h>
 #include <mrpt/core/exceptions.h>
+#include <mrpt/core/format.h>
 #include <voxplore/common/config.h>
 #include <voxplore/common/distance_transform.h>
 #include <voxplore/exploration/stages.h>
@@ -183,7 +184,9 @@ void CollisionParams::loadFromConfigFile(const mrpt::config::CConfigFileBase& c,
 
 void CollisionParams::saveToConfigFile(mrpt::config::CConfigFileBase& c, const std::string& s) const
 {
-  MRPT_SAVE_CONFIG_VAR(r_coll_m, c, s);
+  // Full precision: r_coll follows the footprint's circumradius, and
+  // voxplore-plan plans a run's step again from this file.
+  c.write(s, "r_coll_m", mrpt::format("%.17g", r_coll_m));
   MRPT_SAVE_CONFIG_VAR(ignore_unknown_beside_obstacles, c, s);
   MRPT_SAVE_CONFIG_VAR(min_open_unknown_depth_m, c, s);
   c.write(s, "model", toString(model));
