@@ -270,8 +270,11 @@ struct SamplingParams : public mrpt::config::CLoadableOptions
   /// x its travel distance from the robot over G), the information gain
   /// discounted by the drive to it (Gonzalez-Banos and Latombe's NBV
   /// utility); candidates are tried by utility. 0 = by gain alone (thesis
-  /// 4.5.5) [1/m].
-  double travel_cost_per_m = 0.0;
+  /// 4.5.5): the best view of a frontier was often on its far side, and the
+  /// nbv robot drove 1.40x the nearest baseline's path (compact, b1-b5);
+  /// 0.15: 0.96x at equal coverage; on b6-b10 path -27 %, omniRob b1-b5
+  /// -31 %, coverage up (BENCHMARKS.md, thirteenth and fourteenth sessions) [1/m].
+  double travel_cost_per_m = 0.15;
   /// Next-best-view: the samples of this many frontiers (the chosen one and
   /// the next ones in the same order) are rated together and the best
   /// utility among them wins; 1 = the chosen frontier only (thesis).
