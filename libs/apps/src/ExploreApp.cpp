@@ -72,11 +72,7 @@ ExploreConfig loadConfig(const ExploreOptions& opts)
   c.sim = sim::SimConfig::load(*cfg, opts.robot);
   c.slam.load(*cfg);
   // r_coll follows the robot footprint unless [collision] r_coll_m is set.
-  c.planner.collision.r_coll_m = c.sim.robot.footprint().circumradius();
-  c.planner.projection.footprint_length_m = c.sim.robot.length_m;
-  c.planner.collision.footprint_length_m = c.sim.robot.length_m;
-  c.planner.collision.footprint_width_m = c.sim.robot.width_m;
-  c.planner.projection.footprint_width_m = c.sim.robot.width_m;
+  c.planner.setFootprint(c.sim.robot.length_m, c.sim.robot.width_m);
   c.planner.load(*cfg);
   // The scan rating's virtual cameras are the robot's, unless [scan_rating] places them.
   if (cfg->read_string("scan_rating", "cam0_pose", "").empty())

@@ -7,7 +7,6 @@
 #include <voxplore/common/config.h>
 #include <voxplore/exploration/plan_inputs.h>
 
-#include <cmath>
 #include <iostream>
 #include <memory>
 
@@ -66,9 +65,7 @@ exploration::PlanResult PlanApp::execute(const PlanOptions& o, std::ostream& out
     const double w = common::readDoubleStrict(*cfg, "robot", "width_m", 0.0);
     common::requireValid(l > 0 && w > 0, *cfg, "robot", "length_m",
                          "length_m and width_m must be > 0 (the footprint the run planned with)");
-    params.projection.footprint_length_m = params.collision.footprint_length_m = l;
-    params.projection.footprint_width_m = params.collision.footprint_width_m = w;
-    params.collision.r_coll_m = std::hypot(0.5 * l, 0.5 * w);  // as sim::Footprint::circumradius
+    params.setFootprint(l, w);
   }
   else
     out << "note: no [robot] section in " << o.config

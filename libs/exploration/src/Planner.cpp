@@ -4,6 +4,7 @@
 #include <voxplore/exploration/Planner.h>
 
 #include <algorithm>
+#include <cmath>
 #include <limits>
 #include <numeric>
 #include <sstream>
@@ -69,6 +70,13 @@ void PlannerParams::load(const mrpt::config::CConfigFileBase& cfg)
   tour_cell_m = common::readDoubleStrict(cfg, "planner", "tour_cell_m", tour_cell_m);
   common::requireValid(tour_cell_m > 0 && tour_cell_m <= 0.2, cfg, "planner", "tour_cell_m",
                        "must be in (0, 0.2] (larger blocks may join the two sides of a wall)");
+}
+
+void PlannerParams::setFootprint(double length_m, double width_m)
+{
+  projection.footprint_length_m = collision.footprint_length_m = length_m;
+  projection.footprint_width_m = collision.footprint_width_m = width_m;
+  collision.r_coll_m = std::hypot(0.5 * length_m, 0.5 * width_m);
 }
 
 void PlannerParams::save(mrpt::config::CConfigFileBase& cfg) const

@@ -32,8 +32,11 @@ void ExplorationLoop::replanShutIn(exploration::PlanResult& plan, double cut_off
     return;
   exploration::PlannerParams relaxed = planner_;
   relaxed.collision.swept_passage = true;
-  auto again = exploration::plan(slam_.octomap().tree(), slam_.currentPose(), relaxed, blacklist_,
-                                 step, swept_, {}, approach);
+  const auto planRelaxed = [&] {
+    return exploration::plan(slam_.octomap().tree(), slam_.currentPose(), relaxed, blacklist_,
+                             step, swept_, {}, approach);
+  };
+  auto again = planRelaxed();
   message(mrpt::format("shut in: %.0f m^2 of known floor cut off from the robot (%s); planned "
                        "again trusting the swept path and without the %zu sensed point(s): %s",
                        cut_off_m2, exploration::toString(plan.done), sensed_obstacles_.size(),
@@ -45,8 +48,7 @@ void ExplorationLoop::replanShutIn(exploration::PlanResult& plan, double cut_off
   if (!again.ok() && !relaxed.collision.usesFootprint(plan.ground->state.getResolution()))
   {
     relaxed.collision.model = exploration::CollisionParams::Model::Footprint;
-    again = exploration::plan(slam_.octomap().tree(), slam_.currentPose(), relaxed, blacklist_,
-                              step, swept_, {}, approach);
+    again = planRelaxed();
     message(std::string("shut in: planned again with the robot's footprint: ") +
             (again.ok() ? "a way out" : "still nothing"));
   }

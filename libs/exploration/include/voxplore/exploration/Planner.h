@@ -48,6 +48,10 @@ struct PlannerParams
 
   void load(const mrpt::config::CConfigFileBase& cfg);
   void save(mrpt::config::CConfigFileBase& cfg) const;
+  /// The robot's rectangle (not ini keys): G's swept-footprint columns, the
+  /// collision rectangle, and r_coll_m = its circumradius (a [collision]
+  /// r_coll_m key loaded afterwards wins).
+  void setFootprint(double length_m, double width_m);
   static std::vector<std::string> sections()
   {
     return {"projection", "collision", "sampling", "rooms", "scan_rating", "path", "planner"};
