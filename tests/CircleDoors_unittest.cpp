@@ -3,9 +3,12 @@
 // reaches in a 0.9 m door, and a door the robot has driven through kept
 // open when the map's unknown jambs close it to the thesis' reachability.
 #include <gtest/gtest.h>
+#include <voxplore/exploration/Planner.h>
 #include <voxplore/exploration/stages.h>
 
+#include <algorithm>
 #include <cmath>
+#include <limits>
 
 #include "exploration_test_maps.h"
 
@@ -136,4 +139,55 @@ TEST(CircleDoors, TheFloorBeyondADoorTheCircleCannotPassIsReportedCutOff)
   // The far room (15.4 m^2) and the door's own cells (0.09 m^2): the
   // nearest reachable centre stays more than r + l_res short of them.
   EXPECT_NEAR(cut, 15.4 + 0.09, 0.1);
+}
+
+TEST(CircleDoors, AFrontierIsJudgedByTheOpenUnknownItBorders)
+{
+  // The door to an unseen room faces the room's 4 x 3.85 m of open unknown;
+  // a 0.5 m square the cameras never saw in the known room (under a table)
+  // is a closed pocket of 0.25 m^2.
+  GroundGrid g = roomWithDoor(0.9, GroundState::Unknown);
+  paint(g, 0.5, 1.0, 1.0, 1.5, GroundState::Unknown);
+  const CollisionSpace cs = computeCollisionSpace(g, compact());
+  const FrontierMap fm = findFrontiers(g, cs);
+  ASSERT_EQ(fm.frontiers.size(), 2u);
+  const auto door = std::find_if(fm.frontiers.begin(), fm.frontiers.end(),
+                                 [](const Frontier& f) { return f.center.y() > 3.0; });
+  const auto pocket = std::find_if(fm.frontiers.begin(), fm.frontiers.end(),
+                                   [](const Frontier& f) { return f.center.y() < 3.0; });
+  ASSERT_NE(door, fm.frontiers.end());
+  ASSERT_NE(pocket, fm.frontiers.end());
+  const std::size_t door_i = static_cast<std::size_t>(door - fm.frontiers.begin());
+  const std::size_t pocket_i = static_cast<std::size_t>(pocket - fm.frontiers.begin());
+  // The unknown cells beside the walls are no open unknown (unseen wall bases).
+  EXPECT_NEAR(door->unknown_m2, (4.0 - 0.1) * (3.85 - 0.1), 0.3);
+  EXPECT_NEAR(pocket->unknown_m2, 0.25, 0.03);
+  EXPECT_GT(pocket->size_m, 1.0) << "the circle's band round the pocket is a long frontier";
+
+  // The thesis chooses the pocket (the door's sliver is under th_f2).
+  SamplingParams p;
+  EXPECT_EQ(chooseFrontier(fm.frontiers, p, {}), std::optional<std::size_t>(pocket_i));
+  // Closed pockets left alone: nothing longer than th_f2 is left.
+  p.enclosed_unknown_m2 = 2.0;
+  EXPECT_TRUE(p.enclosed(*pocket));
+  EXPECT_FALSE(p.enclosed(*door));
+  EXPECT_FALSE(chooseFrontier(fm.frontiers, p, {}).has_value());
+  // The door judged by its opening, since it faces more than 2 m^2; the
+  // pocket would be judged by its cells.
+  p.judge_opening = true;
+  p.judge_opening_min_unknown_m2 = 2.0;
+  EXPECT_EQ(chooseFrontier(fm.frontiers, p, {}), std::optional<std::size_t>(door_i));
+  EXPECT_NEAR(p.judgedLength(*door), door->opening_m, 1e-12);
+  EXPECT_NEAR(p.judgedLength(*pocket), pocket->size_m, 1e-12);
+}
+
+TEST(CircleDoors, OpenUnknownThatReachesTheGridsBorderIsUnbounded)
+{
+  // The unseen room's far wall unknown too: its pocket runs off the grid.
+  GroundGrid g = roomWithDoor(0.9, GroundState::Unknown);
+  paint(g, 1.0, 5.0, 4.15, 8.5, GroundState::Unknown);
+  const CollisionSpace cs = computeCollisionSpace(g, compact());
+  const FrontierMap fm = findFrontiers(g, cs);
+  ASSERT_EQ(fm.frontiers.size(), 1u);
+  EXPECT_TRUE(std::isinf(fm.frontiers[0].unknown_m2));
 }

@@ -345,7 +345,8 @@ PlanResult plan(
     {
       const Frontier& f = fm->frontiers[i];
       const double length = p.sampling.judgedLength(f);
-      if (length <= p.sampling.th_f2_m || nearAny(f.center, blacklist, p.sampling.blacklist_radius_m))
+      if (length <= p.sampling.th_f2_m || p.sampling.enclosed(f) ||
+          nearAny(f.center, blacklist, p.sampling.blacklist_radius_m))
         continue;
       (length > p.sampling.th_f1_m ? tier1 : tier2).push_back(i);
     }
@@ -368,6 +369,11 @@ PlanResult plan(
       os << fm->frontiers.size() << " frontier(s), none longer than " << p.sampling.th_f2_m
          << " m and not blacklisted" << (r.skipped_frontiers.empty() ? "" : " left after skipping ")
          << (r.skipped_frontiers.empty() ? "" : std::to_string(r.skipped_frontiers.size()));
+      if (p.sampling.enclosed_unknown_m2 > 0)
+        os << "; " << std::count_if(fm->frontiers.begin(), fm->frontiers.end(),
+                                    [&](const Frontier& f) { return p.sampling.enclosed(f); })
+           << " border(s) only closed pockets of open unknown under " << p.sampling.enclosed_unknown_m2
+           << " m^2";
       if (!r.skip_reasons.empty()) os << ": " << skipSummary(r.skip_reasons);
       if (r.footprint && !r.footprint->reach.data()[r.footprint->robot.cx + r.footprint->robot.cy *
                                                       r.footprint->reach.getSizeX()])

@@ -237,6 +237,69 @@ void measureOpenings(const Search& s, std::vector<Frontier>& frontiers, int grow
     frontiers[k].opening_m = static_cast<double>(count[k]) * res;
 }
 
+/// Frontier::unknown_m2 of every frontier: the open unknown cells are
+/// labelled in 4-connected pockets (one pass over the grid), and each
+/// frontier sums the area of the distinct pockets next to its cells; a pocket
+/// that touches the grid's border is unbounded.
+void measureUnknownBehind(const Search& s, std::vector<Frontier>& frontiers, double res)
+{
+  const std::size_t n = s.dist.size();
+  std::vector<int32_t> pocket(n, -1);
+  std::vector<double> area;  // per pocket [m^2]; infinity: touches the border
+  std::vector<int> stack;
+  for (std::size_t seed = 0; seed < n; ++seed)
+  {
+    if (!s.open_unknown[seed] || pocket[seed] >= 0) continue;
+    const auto id = static_cast<int32_t>(area.size());
+    std::size_t cells = 0;
+    bool border = false;
+    pocket[seed] = id;
+    stack.assign(1, static_cast<int>(seed));
+    while (!stack.empty())
+    {
+      const int i = stack.back();
+      stack.pop_back();
+      ++cells;
+      const int cx = i % s.nx, cy = i / s.nx;
+      for (int k = 0; k < 4; ++k)
+      {
+        const int x = cx + kDx[k], y = cy + kDy[k];
+        if (x < 0 || y < 0 || x >= s.nx || y >= s.ny)
+        {
+          border = true;
+          continue;
+        }
+        const int j = x + y * s.nx;
+        if (!s.open_unknown[j] || pocket[j] >= 0) continue;
+        pocket[j] = id;
+        stack.push_back(j);
+      }
+    }
+    area.push_back(border ? std::numeric_limits<double>::infinity()
+                          : static_cast<double>(cells) * res * res);
+  }
+  std::vector<int32_t> seen;
+  for (Frontier& f : frontiers)
+  {
+    seen.clear();
+    f.unknown_m2 = 0;
+    for (const Cell& c : f.cells)
+      for (int k = 0; k < 4; ++k)
+      {
+        const int x = c.cx + kDx[k], y = c.cy + kDy[k];
+        if (x < 0 || y < 0 || x >= s.nx || y >= s.ny)
+        {
+          f.unknown_m2 = std::numeric_limits<double>::infinity();
+          continue;
+        }
+        const int32_t id = pocket[static_cast<std::size_t>(x + y * s.nx)];
+        if (id < 0 || std::find(seen.begin(), seen.end(), id) != seen.end()) continue;
+        seen.push_back(id);
+        f.unknown_m2 += area[static_cast<std::size_t>(id)];
+      }
+  }
+}
+
 /// Groups frontier cells 8-connected, in row-major order of their first cell.
 std::vector<Frontier> groupFrontiers(const Search& s, const Grid<SpaceState>& g)
 {
@@ -322,6 +385,7 @@ FrontierMap findFrontiers(const GroundGrid& g, const CollisionSpace& cs)
     for (Frontier& f : fm.frontiers) f.opening_m = f.size_m;  // grown already
   else
     measureOpenings(s, fm.frontiers, static_cast<int>(std::ceil(cs.radius_m / res - 1e-9)), res);
+  measureUnknownBehind(s, fm.frontiers, res);
   // thesis 4.5.3: ascending travel distance; ties: the larger frontier first.
   std::stable_sort(
       fm.frontiers.begin(), fm.frontiers.end(),

@@ -113,6 +113,8 @@ void SamplingParams::loadFromConfigFile(const mrpt::config::CConfigFileBase& c,
   MRPT_LOAD_CONFIG_VAR(view_standoff_m, double, c, s);
   MRPT_LOAD_CONFIG_VAR(sight_blocked_by_unknown, bool, c, s);
   MRPT_LOAD_CONFIG_VAR(judge_opening, bool, c, s);
+  MRPT_LOAD_CONFIG_VAR(judge_opening_min_unknown_m2, double, c, s);
+  MRPT_LOAD_CONFIG_VAR(enclosed_unknown_m2, double, c, s);
   MRPT_LOAD_CONFIG_VAR(travel_cost_per_m, double, c, s);
   MRPT_LOAD_CONFIG_VAR(frontiers_rated, int, c, s);
   using common::requireValid;
@@ -125,6 +127,8 @@ void SamplingParams::loadFromConfigFile(const mrpt::config::CConfigFileBase& c,
   requireValid(min_sample_dist_m >= 0, c, s, "min_sample_dist_m", "must be >= 0");
   requireValid(blacklist_radius_m >= 0, c, s, "blacklist_radius_m", "must be >= 0");
   requireValid(view_standoff_m >= 0, c, s, "view_standoff_m", "must be >= 0");
+  requireValid(judge_opening_min_unknown_m2 >= 0, c, s, "judge_opening_min_unknown_m2", "must be >= 0");
+  requireValid(enclosed_unknown_m2 >= 0, c, s, "enclosed_unknown_m2", "must be >= 0");
   requireValid(travel_cost_per_m >= 0, c, s, "travel_cost_per_m", "must be >= 0");
   requireValid(frontiers_rated >= 1, c, s, "frontiers_rated", "must be >= 1");
 }
@@ -141,6 +145,8 @@ void SamplingParams::saveToConfigFile(mrpt::config::CConfigFileBase& c, const st
   MRPT_SAVE_CONFIG_VAR(view_standoff_m, c, s);
   MRPT_SAVE_CONFIG_VAR(sight_blocked_by_unknown, c, s);
   MRPT_SAVE_CONFIG_VAR(judge_opening, c, s);
+  MRPT_SAVE_CONFIG_VAR(judge_opening_min_unknown_m2, c, s);
+  MRPT_SAVE_CONFIG_VAR(enclosed_unknown_m2, c, s);
   MRPT_SAVE_CONFIG_VAR(travel_cost_per_m, c, s);
   MRPT_SAVE_CONFIG_VAR(frontiers_rated, c, s);
 }
@@ -163,7 +169,8 @@ std::optional<std::size_t> chooseFrontier(const std::vector<Frontier>& frontiers
     {
       const Frontier& f = frontiers[i];
       if (tier == 0 && !(*first)[i]) continue;
-      if (p.judgedLength(f) <= th || std::find(skip.begin(), skip.end(), i) != skip.end()) continue;
+      if (p.judgedLength(f) <= th || p.enclosed(f) || std::find(skip.begin(), skip.end(), i) != skip.end())
+        continue;
       if (nearAny(f.center, blacklist, p.blacklist_radius_m)) continue;
       if (!best || key(i) < key(*best)) best = i;
     }

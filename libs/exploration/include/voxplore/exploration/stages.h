@@ -204,6 +204,12 @@ struct Frontier
   /// reachable cells, its opening is the door.
   double opening_m = 0;
   double distance_m = 0;      ///< BFS travel distance from the robot to its nearest cell [m]
+  /// The open unknown it borders [m^2]: the area of the 4-connected pockets
+  /// of CollisionSpace::open_unknown next to its cells (infinity when one
+  /// reaches the grid's border). A door to an unseen room faces tens of
+  /// m^2; the floor under a table or behind a cabinet a pocket of under 1 m^2
+  /// that no pose the robot reaches may ever clear.
+  double unknown_m2 = 0;
   Eigen::Vector2d centroid{0, 0};  ///< mean of its cell centres [m]
   Eigen::Vector2d center{0, 0};    ///< its cell nearest to the centroid [m] (lies on the frontier)
 };
@@ -250,7 +256,9 @@ struct SamplingParams : public mrpt::config::CLoadableOptions
   /// nearest reachable cell when there is none). The rectangle may stand 2 cm
   /// from open unknown, but the cameras see no floor within about 0.9 m of
   /// their rim: a target at the frontier saw nothing new and was given up.
-  /// The circle keeps its own stand-off (r_coll). 0 = off [m].
+  /// The circle keeps its own stand-off (r_coll): with this stand-off the
+  /// compact robot's nearest runs ended early (b2 0.89 -> 0.12, b3 0.98 ->
+  /// 0.04, BENCHMARKS.md fifteenth session). 0 = off [m].
   double view_standoff_m = 1.5;
   /// Line of sight to a frontier (sample space, view stand-off) is blocked
   /// by Unknown cells that are not open unknown too (beside an occupied cell
@@ -280,7 +288,21 @@ struct SamplingParams : public mrpt::config::CLoadableOptions
   /// utility among them wins; 1 = the chosen frontier only (thesis).
   int frontiers_rated = 1;
   /// @brief The length the tiers judge frontier f by [m].
-  double judgedLength(const Frontier& f) const { return judge_opening ? f.opening_m : f.size_m; }
+  /// judge_opening only for frontiers that border at least this much open
+  /// unknown (Frontier::unknown_m2; a door to an unseen room), the others by
+  /// their cells: judge_opening gave every sliver 0.75-0.95 m. 0 = all [m^2].
+  double judge_opening_min_unknown_m2 = 0;
+  /// A frontier bordering less open unknown than this (Frontier::unknown_m2:
+  /// a closed pocket under a table, behind furniture, at a wall's foot) is
+  /// not chosen: the robot crossed the building for such slivers after the
+  /// rooms were seen (issue 12's tail). 0 = every frontier (thesis) [m^2].
+  double enclosed_unknown_m2 = 0;
+  double judgedLength(const Frontier& f) const
+  {
+    return judge_opening && f.unknown_m2 >= judge_opening_min_unknown_m2 ? f.opening_m : f.size_m;
+  }
+  /// Is f a closed pocket that enclosed_unknown_m2 leaves alone?
+  bool enclosed(const Frontier& f) const { return f.unknown_m2 < enclosed_unknown_m2; }
   void loadFromConfigFile(const mrpt::config::CConfigFileBase& c, const std::string& s) override;
   void saveToConfigFile(mrpt::config::CConfigFileBase& c, const std::string& s) const override;
 };
