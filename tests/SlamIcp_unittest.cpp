@@ -492,3 +492,62 @@ TEST(PlanarIcp, ATurnWithOdometryFarOffIsRegisteredFromTheBestOfSeveralStarts)
   p.multi_start_min_std_m = 0;
   EXPECT_EQ(mapping::alignPlanarMultiStart(ref, cloud, predicted, p, &views, odometry_std).starts_tried, 1u);
 }
+
+TEST(SlamIcp, ALargeCorrectionAfterATurnPassesTheOdometryGate)
+{
+  // Stop 2 turns 170 deg on the spot and its odometry comes 0.6 m off
+  // (3.3 of the motion model's 0.18 m stds for such a turn). The fixed
+  // 0.5 m limit refuses ICP's correction and every stop after it, none of
+  // which moves far enough to confirm; with correction_gate_sigmas = 4 the
+  // limit is 0.72 m there and stop 2 is registered. Relocalisation and the
+  // confirmation are off so that only the gate can take it.
+  RoomFixture f;
+  sim::DepthCameraRig rig{sim::CameraRigParams{}};
+  const CPose2D s = f.world.start;  // (2, 4, 0) in the DLR room
+  const std::vector<CPose2D> truth = {s, s + CPose2D(0.3, 0.1, 0.2), s + CPose2D(0.3, 0.1, 0.2 + M_PI * 170 / 180),
+                                      s + CPose2D(0.4, 0.1, 3.2), s + CPose2D(0.5, 0.2, 3.3)};
+  const CPose2D odo_error(0.0, 0.6, 0.0);  // in the start's frame, from stop 2 on
+  for (double sigmas : {4.0, 0.0})
+  {
+    SCOPED_TRACE("correction_gate_sigmas " + std::to_string(sigmas));
+    std::mt19937_64 rng(5);
+    mapping::SlamIcpParams p;
+    p.icp.relocalize = false;
+    p.icp.confirm_large_corrections = false;
+    p.icp.correction_gate_sigmas = sigmas;
+    p.loop_closure.enabled = false;
+    mapping::SlamIcp slam(p);
+    for (std::size_t i = 0; i < truth.size(); i++)
+    {
+      mrpt::obs::CSensoryFrame sf;
+      for (const auto& o : rig.scan(f.caster, CPose3D(truth[i]), mrpt::Clock::fromDouble(i), rng, true))
+        sf.insert(o);
+      const CPose2D rel = truth[i] - truth[0];
+      const CPose2D odo = i >= 2 ? CPose2D(rel.x() + odo_error.x(), rel.y() + odo_error.y(), rel.phi()) : rel;
+      slam.processStop(sf, odo, mrpt::Clock::fromDouble(double(i)));
+    }
+    const auto& out = slam.reports();
+    ASSERT_EQ(out.size(), truth.size());
+    const auto err = [&](std::size_t i)
+    {
+      const CPose2D t = truth[i] - truth[0];
+      return std::hypot(out[i].pose.x() - t.x(), out[i].pose.y() - t.y());
+    };
+    if (sigmas > 0)
+    {
+      for (std::size_t i : {2u, 3u, 4u})
+      {
+        EXPECT_FALSE(out[i].flagged) << "stop " << i << ": " << out[i].icp.reason;
+        EXPECT_LT(err(i), 0.03) << "stop " << i;
+      }
+      EXPECT_NE(out[2].icp.reason.find("odometry stds"), std::string::npos) << out[2].icp.reason;
+    }
+    else
+    {
+      EXPECT_TRUE(out[2].flagged);
+      EXPECT_NE(out[2].icp.reason.find("m > 0.5 m"), std::string::npos) << out[2].icp.reason;
+      EXPECT_TRUE(out[3].flagged) << "every stop after it stays off by as much";
+      EXPECT_GT(err(4), 0.4);
+    }
+  }
+}

@@ -33,6 +33,7 @@ void IcpParams::loadFromConfigFile(const mrpt::config::CConfigFileBase& c, const
   MRPT_LOAD_CONFIG_VAR(min_goodness, double, c, s);
   MRPT_LOAD_CONFIG_VAR(max_correction_xy_m, double, c, s);
   MRPT_LOAD_CONFIG_VAR_DEGREES(max_correction_yaw, c, s);
+  MRPT_LOAD_CONFIG_VAR(correction_gate_sigmas, double, c, s);
   MRPT_LOAD_CONFIG_VAR(confirm_large_corrections, bool, c, s);
   MRPT_LOAD_CONFIG_VAR(confirm_xy_m, double, c, s);
   MRPT_LOAD_CONFIG_VAR_DEGREES(confirm_yaw, c, s);
@@ -72,6 +73,7 @@ void IcpParams::loadFromConfigFile(const mrpt::config::CConfigFileBase& c, const
   requireValid(decimation >= 1, c, s, "decimation", "must be >= 1");
   requireValid(min_goodness >= 0 && min_goodness <= 1, c, s, "min_goodness", "must be in [0, 1]");
   requireValid(max_correction_xy_m > 0, c, s, "max_correction_xy_m", "must be positive");
+  requireValid(correction_gate_sigmas >= 0, c, s, "correction_gate_sigmas", "must be >= 0");
   requireValid(max_correction_yaw > 0, c, s, "max_correction_yaw", "must be positive");
   requireValid(confirm_xy_m > 0, c, s, "confirm_xy_m", "must be positive");
   requireValid(confirm_yaw > 0, c, s, "confirm_yaw", "must be positive");
@@ -120,6 +122,7 @@ void IcpParams::saveToConfigFile(mrpt::config::CConfigFileBase& c, const std::st
   MRPT_SAVE_CONFIG_VAR(min_goodness, c, s);
   MRPT_SAVE_CONFIG_VAR(max_correction_xy_m, c, s);
   MRPT_SAVE_CONFIG_VAR_DEGREES(max_correction_yaw, c, s);
+  MRPT_SAVE_CONFIG_VAR(correction_gate_sigmas, c, s);
   MRPT_SAVE_CONFIG_VAR(confirm_large_corrections, c, s);
   MRPT_SAVE_CONFIG_VAR(confirm_xy_m, c, s);
   MRPT_SAVE_CONFIG_VAR_DEGREES(confirm_yaw, c, s);

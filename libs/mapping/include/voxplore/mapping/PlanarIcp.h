@@ -28,6 +28,15 @@ struct IcpParams : public mrpt::config::CLoadableOptions
   double min_goodness = 0.5;       ///< accept only when this share of points found a pair
   double max_correction_xy_m = 0.5;  ///< accept only corrections of the odometry prediction up to this [m]
   double max_correction_yaw = mrpt::DEG2RAD(10.0);  ///< ... and this [rad] (ini: deg)
+  /// SlamIcp: max_correction_xy_m widens to this many odometry stds
+  /// (odometryStdXy summed over the steps since the last stop ICP
+  /// registered), for registrations at least confirm_min_goodness good and
+  /// not degenerate. A 170 deg turn's odometry came 0.67 m off (3.7 stds):
+  /// ICP found it, the fixed 0.5 m refused it, and every later stop, off by as
+  /// much and with less of the map in view, was refused too (b3 compact nbv:
+  /// 29 stops in a row, the map frozen, the run over at 0.06). 0 = the fixed
+  /// limit only.
+  double correction_gate_sigmas = 4;
   /// A registration refused only for its correction (beyond max_correction_*)
   /// is taken after all when the next stop, registered from the prediction
   /// carrying the same correction, agrees (SlamIcp): odometry that turned

@@ -145,6 +145,9 @@ class SlamIcp
   void checkCameras(const mrpt::obs::CSensoryFrame& sf, StopReport& rep, UsableScans& usable);
   /// Step 3: ICP (and relocalisation) or the prediction; sets pose, icp, flagged.
   void registerStop(StopReport& rep, const RobotCloud& cloud, bool has_depth);
+  /// The odometry's xy std [m] of the prediction `predicted` from the last
+  /// stop ICP registered (not flagged), summed step by step (odometryStdXy).
+  double odometryStdSinceRegistered(const mrpt::poses::CPose2D& predicted) const;
   /// After a rejected registration: when the previous stop's registration
   /// was refused only for its size, try this stop from the prediction
   /// carrying that correction; true when it agrees (rep.icp replaced).

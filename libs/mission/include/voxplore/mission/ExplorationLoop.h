@@ -118,7 +118,7 @@ struct ExplorationLoopParams : public mrpt::config::CLoadableOptions
   /// sensed in it, shut the compact robot in a room and ended the run "no
   /// frontier" with most of the known building beyond it (b5, b9). 0 = off
   /// [m^2].
-  double cut_off_replan_m2 = 0;
+  double cut_off_replan_m2 = 20;
 
   void loadFromConfigFile(const mrpt::config::CConfigFileBase& c, const std::string& s) override;
   void saveToConfigFile(mrpt::config::CConfigFileBase& c, const std::string& s) const override;
