@@ -268,6 +268,7 @@ std::optional<IcpResult> LoopCloser::match(LoopEvent& ev, std::size_t& anchor)
   IcpParams p = icp_;
   p.enabled = true;
   p.min_goodness = params_.min_goodness;
+  p.low_overlap_min_goodness = 0;  // a loop is taken on its own goodness only
   p.max_correction_xy_m =
       std::clamp(params_.drift_per_m * travelled, params_.min_window_m, params_.max_window_m);
   p.max_correction_yaw = std::clamp(params_.yaw_drift_per_m * travelled, params_.min_window_yaw,

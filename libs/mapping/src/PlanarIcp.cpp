@@ -31,6 +31,7 @@ void IcpParams::loadFromConfigFile(const mrpt::config::CConfigFileBase& c, const
   MRPT_LOAD_CONFIG_VAR(huber_m, double, c, s);
   MRPT_LOAD_CONFIG_VAR(point_weight, double, c, s);
   MRPT_LOAD_CONFIG_VAR(min_goodness, double, c, s);
+  MRPT_LOAD_CONFIG_VAR(low_overlap_min_goodness, double, c, s);
   MRPT_LOAD_CONFIG_VAR(max_correction_xy_m, double, c, s);
   MRPT_LOAD_CONFIG_VAR_DEGREES(max_correction_yaw, c, s);
   MRPT_LOAD_CONFIG_VAR(correction_gate_sigmas, double, c, s);
@@ -72,6 +73,8 @@ void IcpParams::loadFromConfigFile(const mrpt::config::CConfigFileBase& c, const
   requireValid(point_weight >= 0 && point_weight <= 1, c, s, "point_weight", "must be in [0, 1]");
   requireValid(decimation >= 1, c, s, "decimation", "must be >= 1");
   requireValid(min_goodness >= 0 && min_goodness <= 1, c, s, "min_goodness", "must be in [0, 1]");
+  requireValid(low_overlap_min_goodness >= 0 && low_overlap_min_goodness <= 1, c, s,
+               "low_overlap_min_goodness", "must be in [0, 1]");
   requireValid(max_correction_xy_m > 0, c, s, "max_correction_xy_m", "must be positive");
   requireValid(correction_gate_sigmas >= 0, c, s, "correction_gate_sigmas", "must be >= 0");
   requireValid(max_correction_yaw > 0, c, s, "max_correction_yaw", "must be positive");
@@ -120,6 +123,7 @@ void IcpParams::saveToConfigFile(mrpt::config::CConfigFileBase& c, const std::st
   MRPT_SAVE_CONFIG_VAR(huber_m, c, s);
   MRPT_SAVE_CONFIG_VAR(point_weight, c, s);
   MRPT_SAVE_CONFIG_VAR(min_goodness, c, s);
+  MRPT_SAVE_CONFIG_VAR(low_overlap_min_goodness, c, s);
   MRPT_SAVE_CONFIG_VAR(max_correction_xy_m, c, s);
   MRPT_SAVE_CONFIG_VAR_DEGREES(max_correction_yaw, c, s);
   MRPT_SAVE_CONFIG_VAR(correction_gate_sigmas, c, s);
@@ -151,6 +155,17 @@ void IcpParams::saveToConfigFile(mrpt::config::CConfigFileBase& c, const std::st
   MRPT_SAVE_CONFIG_VAR(relocalize_margin, c, s);
 }
 
+
+namespace
+{
+/// IcpParams::low_overlap_min_goodness: a registration that paired little
+/// of its cloud but agrees with the odometry of its step.
+bool lowOverlapAgrees(const IcpResult& r, double dxy, double dyaw, const IcpParams& p, double odometry_std_m)
+{
+  return p.low_overlap_min_goodness > 0 && r.goodness >= p.low_overlap_min_goodness && r.converged &&
+         !r.degenerate && dxy <= std::max(0.02, 2.0 * odometry_std_m) && dyaw <= mrpt::DEG2RAD(2.0);
+}
+}  // namespace
 
 IcpResult alignPlanar(
     const mrpt::maps::CPointsMap& reference_map, const mrpt::maps::CPointsMap& cloud_robot,
@@ -233,7 +248,7 @@ IcpResult alignPlanar(
   else if (!r.converged && r.last_step_m > p.max_unconverged_step_m)
     why << "did not converge in " << r.iterations << " iterations (last step " << r.last_step_m
         << " m > max_unconverged_step_m = " << p.max_unconverged_step_m << " m)";
-  else if (r.goodness < p.min_goodness)
+  else if (r.goodness < p.min_goodness && !lowOverlapAgrees(r, dxy, dyaw, p, odometry_std_m))
     why << "goodness " << r.goodness << " < " << p.min_goodness;
   else if (dxy > p.max_correction_xy_m)
   {
@@ -251,6 +266,13 @@ IcpResult alignPlanar(
   if (r.accepted)
   {
     r.pose = sol;
+    if (r.goodness < p.min_goodness)
+    {
+      std::ostringstream low;
+      low << "low overlap: goodness " << r.goodness << " < " << p.min_goodness << ", taken as it agrees with odometry ("
+          << dxy << " m, " << mrpt::RAD2DEG(dyaw) << " deg)";
+      r.reason = low.str();
+    }
     if (fused)
       r.reason = "degenerate: odometry fused along one direction";
     else if (r.degenerate)
@@ -376,6 +398,7 @@ IcpResult relocalizePlanar(
   wide.max_correction_xy_m = p.relocalize_radius_m + p.d_max_m;
   wide.max_correction_yaw = p.relocalize_yaw + mrpt::DEG2RAD(10.0);
   wide.min_goodness = p.relocalize_min_goodness;
+  wide.low_overlap_min_goodness = 0;  // relocalisation by its own goodness only
   std::vector<IcpResult> refined;
   std::vector<CPose2D> tried;
   for (const auto& seed : seeds)
