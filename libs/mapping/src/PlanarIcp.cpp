@@ -170,7 +170,7 @@ bool lowOverlapAgrees(const IcpResult& r, double dxy, double dyaw, const IcpPara
 IcpResult alignPlanar(
     const mrpt::maps::CPointsMap& reference_map, const mrpt::maps::CPointsMap& cloud_robot,
     const CPose2D& predicted, const IcpParams& p, const Viewpoints* reference_viewpoints,
-    double odometry_std_m, const CPose2D* start)
+    double odometry_std_m, const CPose2D* start, double gate_xy_m)
 {
   IcpResult r;
   r.pose = predicted;
@@ -242,6 +242,8 @@ IcpResult alignPlanar(
   }
   const double dxy = std::hypot(sol.x() - predicted.x(), sol.y() - predicted.y());
   const double dyaw = std::abs(mrpt::math::wrapToPi(sol.phi() - predicted.phi()));
+  // Beyond max_correction_xy_m only a good, fully constrained registration passes the gate.
+  const bool gateable = r.goodness >= p.confirm_min_goodness && !r.degenerate;
   std::ostringstream why;
   if (!std::isfinite(sol.x()) || !std::isfinite(sol.y()) || !std::isfinite(sol.phi()))
     why << "non-finite solution";
@@ -250,9 +252,12 @@ IcpResult alignPlanar(
         << " m > max_unconverged_step_m = " << p.max_unconverged_step_m << " m)";
   else if (r.goodness < p.min_goodness && !lowOverlapAgrees(r, dxy, dyaw, p, odometry_std_m))
     why << "goodness " << r.goodness << " < " << p.min_goodness;
-  else if (dxy > p.max_correction_xy_m)
+  else if (dxy > p.max_correction_xy_m && !(dxy <= gate_xy_m && gateable))
   {
     why << "correction " << dxy << " m > " << p.max_correction_xy_m << " m";
+    if (dxy <= gate_xy_m)
+      why << " (within the gate of " << gate_xy_m << " m, but "
+          << (r.degenerate ? std::string("degenerate") : "goodness " + std::to_string(r.goodness)) << ")";
     r.over_correction_limit = true;
   }
   else if (dyaw > p.max_correction_yaw)
@@ -277,6 +282,13 @@ IcpResult alignPlanar(
       r.reason = "degenerate: odometry fused along one direction";
     else if (r.degenerate)
       r.reason = "degenerate: odometry kept along one direction";
+    if (dxy > p.max_correction_xy_m)
+    {
+      std::ostringstream gate;
+      gate << "correction " << dxy << " m beyond " << p.max_correction_xy_m << " m, within the gate of "
+           << gate_xy_m << " m (correction_gate_sigmas odometry stds since the last registered stop)";
+      r.reason = r.reason.empty() ? gate.str() : r.reason + "; " + gate.str();
+    }
   }
   return r;
 }
@@ -284,9 +296,10 @@ IcpResult alignPlanar(
 IcpResult alignPlanarMultiStart(
     const mrpt::maps::CPointsMap& reference_map, const mrpt::maps::CPointsMap& cloud_robot,
     const CPose2D& predicted, const IcpParams& p, const Viewpoints* reference_viewpoints,
-    double odometry_std_m)
+    double odometry_std_m, double gate_xy_m)
 {
-  IcpResult best = alignPlanar(reference_map, cloud_robot, predicted, p, reference_viewpoints, odometry_std_m);
+  IcpResult best =
+      alignPlanar(reference_map, cloud_robot, predicted, p, reference_viewpoints, odometry_std_m, nullptr, gate_xy_m);
   if (p.multi_start_min_std_m <= 0 || odometry_std_m < p.multi_start_min_std_m || !best.accepted ||
       best.degenerate)
     return best;
@@ -298,7 +311,7 @@ IcpResult alignPlanarMultiStart(
   {
     const CPose2D s(predicted.x() + offsets[k][0], predicted.y() + offsets[k][1], predicted.phi());
     IcpResult r = alignPlanar(reference_map, cloud_robot, predicted, p, reference_viewpoints,
-                              odometry_std_m, &s);
+                              odometry_std_m, &s, gate_xy_m);
     if (!r.accepted || r.degenerate || r.paired_share <= bar) continue;
     if (!winner || r.paired_share > winner->paired_share)
     {

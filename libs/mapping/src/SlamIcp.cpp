@@ -7,7 +7,6 @@
 #include <voxplore/mapping/SlamIcp.h>
 
 #include <cmath>
-#include <algorithm>
 #include <iterator>
 #include <sstream>
 #include <stdexcept>
@@ -122,33 +121,9 @@ void SlamIcp::registerStop(StopReport& rep, const RobotCloud& cloud, bool has_de
       if (len > icp.odometry_prior_step_m)
         icp.odometry_prior_pairs *= std::pow(icp.odometry_prior_step_m / len, 2);
     }
-    const double gate_std = odometryStdSinceRegistered(rep.predicted);
-    if (icp.correction_gate_sigmas > 0)
-      icp.max_correction_xy_m = std::max(icp.max_correction_xy_m, icp.correction_gate_sigmas * gate_std);
+    const double gate_xy_m = icp.correction_gate_sigmas * odometryStdSinceRegistered(rep.predicted);
     rep.icp = alignPlanarMultiStart(metaview_.footprint(), cloud.points, rep.predicted, icp,
-                                    &metaview_.footprintViewpoints(), odometryStdXy(step, icp));
-    const double dxy = std::hypot(rep.icp.pose.x() - rep.predicted.x(), rep.icp.pose.y() - rep.predicted.y());
-    if (rep.icp.accepted && dxy > params_.icp.max_correction_xy_m &&
-        (rep.icp.degenerate || rep.icp.goodness < params_.icp.confirm_min_goodness))
-    {
-      // Beyond the fixed limit only a good, fully constrained registration
-      // passes the gate; the rest is refused as before (and may be confirmed).
-      std::ostringstream why;
-      why << "correction " << dxy << " m > " << params_.icp.max_correction_xy_m << " m (within the gate of "
-          << icp.max_correction_xy_m << " m, but " << (rep.icp.degenerate ? "degenerate" : "goodness ")
-          << (rep.icp.degenerate ? "" : std::to_string(rep.icp.goodness)) << ")";
-      rep.icp.reason = why.str();
-      rep.icp.accepted = false;
-      rep.icp.over_correction_limit = true;
-      rep.icp.pose = rep.predicted;
-    }
-    else if (rep.icp.accepted && dxy > params_.icp.max_correction_xy_m)
-    {
-      std::ostringstream why;
-      why << "correction " << dxy << " m beyond " << params_.icp.max_correction_xy_m << " m, within "
-          << icp.correction_gate_sigmas << " odometry stds (" << gate_std << " m since the last registered stop)";
-      rep.icp.reason = rep.icp.reason.empty() ? why.str() : rep.icp.reason + "; " + why.str();
-    }
+                                    &metaview_.footprintViewpoints(), odometryStdXy(step, icp), gate_xy_m);
     const IcpResult first_try = rep.icp;
     const bool confirmed = !rep.icp.accepted && pending && confirmLargeCorrection(rep, cloud, *pending);
     // ICP ran and was rejected: the prediction may be wrong (an odometry

@@ -190,12 +190,15 @@ struct IcpResult
 ///        of a cloud point and a reference line seen from opposite sides.
 ///        `start`, when given, is where ICP starts instead of the prediction
 ///        (the correction limits and the odometry prior still refer to the
-///        prediction).
+///        prediction). `gate_xy_m` > max_correction_xy_m (SlamIcp: IcpParams::
+///        correction_gate_sigmas odometry stds) takes a larger correction, up
+///        to it, when the registration is at least confirm_min_goodness good
+///        and not degenerate.
 IcpResult alignPlanar(
     const mrpt::maps::CPointsMap& reference_map, const mrpt::maps::CPointsMap& cloud_robot,
     const mrpt::poses::CPose2D& predicted, const IcpParams& params,
     const Viewpoints* reference_viewpoints = nullptr, double odometry_std_m = 0.0,
-    const mrpt::poses::CPose2D* start = nullptr);
+    const mrpt::poses::CPose2D* start = nullptr, double gate_xy_m = 0.0);
 
 /// @brief alignPlanar() from the prediction and, when `odometry_std_m` >=
 ///        multi_start_min_std_m and that result is accepted and not
@@ -210,7 +213,7 @@ IcpResult alignPlanar(
 IcpResult alignPlanarMultiStart(
     const mrpt::maps::CPointsMap& reference_map, const mrpt::maps::CPointsMap& cloud_robot,
     const mrpt::poses::CPose2D& predicted, const IcpParams& params,
-    const Viewpoints* reference_viewpoints, double odometry_std_m);
+    const Viewpoints* reference_viewpoints, double odometry_std_m, double gate_xy_m = 0.0);
 
 /// @brief The xy standard deviation of an odometry increment `step` (robot
 ///        frame) under params' motion model (odometry_std_xy_*) [m].
