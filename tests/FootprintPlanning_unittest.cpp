@@ -622,3 +622,44 @@ TEST(FootprintSpace, ABinSpanOfZeroKeepsTheMarginAtTheBinsCentreYawOnly)
   ASSERT_TRUE(path);
   expectNeverClips(g, *path);
 }
+
+TEST(FootprintSpace, ADoorWhoseMiddleFallsBetweenTwoCellCentresIsPassedMovedSideways)
+{
+  // b1, omniRob, nbv (a real map): a 0.90 m door mapped 0.80 m wide (a jamb
+  // face 4 mm from a cell border, its noisy points in the next cell), its
+  // middle on a cell border. At both cell centres beside the middle the
+  // rectangle (0.712 m, 2 cm margin) has 37.5 cm on one side, 1 mm short:
+  // the room behind stayed shut. Moved 2.5 cm sideways it has 4 cm a side
+  // to spare over the margin: footprint_lateral_m opens it; turning stays
+  // at the cell centre.
+  GroundGrid g = makeGround(-3.2, 3.3, -1.7, 1.7, kRes, GroundState::Occupied);
+  paint(g, -3.0, 3.1, -1.5, 1.5, GroundState::Free);
+  paint(g, 0.0, 0.1, -1.5, -0.40, GroundState::Occupied);  // squares up to y = -0.40
+  paint(g, 0.0, 0.1, 0.40, 1.5, GroundState::Occupied);    // ... from y = 0.40
+  const CPose2D start(1.6, 0.025, 0.0);
+  CollisionParams p = omniRob();
+  p.yaw_bins = 16;
+  p.footprint_bin_span = 0.0;
+  EXPECT_FALSE(reachedAt(footprintSpaceOf(g, start, p), -1.5, 0.025));
+  p.footprint_lateral_m = 0.025;
+  const Planned open = footprintSpaceOf(g, start, p);
+  EXPECT_TRUE(reachedAt(open, -1.5, 0.025));
+  EXPECT_TRUE(reachedAt(open, -1.5, -0.025));
+  // In the door: the bin along the wall's normal (and, through a wall this
+  // thin, its neighbours), never turnable.
+  Cell door;
+  ASSERT_TRUE(cellOf(open.fs.clear, Eigen::Vector2d(0.05, 0.025), door));
+  EXPECT_TRUE(*open.fs.clear.cellByIndex(door.cx, door.cy) & YawMask(1));
+  EXPECT_EQ(*open.fs.clear_turn.cellByIndex(door.cx, door.cy), YawMask(0));
+  // A cell more off the middle is not clear: the shift is at most 2.5 cm.
+  ASSERT_TRUE(cellOf(open.fs.clear, Eigen::Vector2d(0.05, 0.075), door));
+  EXPECT_FALSE(*open.fs.clear.cellByIndex(door.cx, door.cy) & YawMask(1));
+  // Moved sideways by the shift, the body keeps the margin at every state
+  // of the door (the drive's centring puts it there).
+  const auto path = planFootprintPath(open.cs, open.fs, start, {-1.5, 0.025}, 0.0, PathParams{});
+  ASSERT_TRUE(path);
+  expectNeverClips(g, *path);
+  // A door 5 cm narrower stays shut: the shift does not eat the margin.
+  paint(g, 0.0, 0.1, 0.35, 0.40, GroundState::Occupied);
+  EXPECT_FALSE(reachedAt(footprintSpaceOf(g, start, p), -1.5, 0.025));
+}

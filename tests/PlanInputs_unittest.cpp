@@ -89,6 +89,8 @@ TEST(PlanInputs, TheSameInputsPlanTheSameStepAgain)
   o.inputs = inputs;
   o.config = ini;
   o.png = dir + "/step.png";
+  o.probes = {{in.robot.x(), in.robot.y(), 0.0}, {1e4, 0.0, 0.0}};
+  o.probe_radius = 2;
   std::ostringstream report;
   const auto again = apps::PlanApp{}.execute(o, report);
   ASSERT_TRUE(again.ok()) << report.str();
@@ -97,6 +99,15 @@ TEST(PlanInputs, TheSameInputsPlanTheSameStepAgain)
   EXPECT_TRUE(std::filesystem::exists(o.png));
   EXPECT_NE(report.str().find("chosen"), std::string::npos) << report.str();
   EXPECT_NE(report.str().find("known floor cut off"), std::string::npos) << report.str();
+  // The probe at the robot: 5 rows of G | collision space, the robot's cell
+  // (free, its collision state Free in the circle model) in the middle.
+  EXPECT_NE(report.str().find("outside the grid"), std::string::npos) << report.str();
+  const auto at = report.str().find("G | collision space");
+  ASSERT_NE(at, std::string::npos) << report.str();
+  std::istringstream rows(report.str().substr(report.str().find('\n', at) + 1));
+  std::string row;
+  for (int k = 0; k < 3; ++k) std::getline(rows, row);
+  EXPECT_EQ(row, "  ..*.. | ..*..") << report.str();
 }
 
 TEST(PlanInputs, BadFilesAreRefusedNamingTheFileAndLine)

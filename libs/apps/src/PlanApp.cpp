@@ -7,6 +7,9 @@
 #include <voxplore/common/config.h>
 #include <voxplore/exploration/plan_inputs.h>
 
+#include <voxplore/exploration/footprint.h>
+
+#include <cstdio>
 #include <iostream>
 #include <memory>
 
@@ -21,6 +24,99 @@ const char* kDescription =
     "travel distance, room), why each one tried was skipped, the known floor cut off from the "
     "robot, the target and its path, the timings. Change a key in a copy of params.ini to see "
     "what it would have planned.";
+
+char groundChar(exploration::GroundState s)
+{
+  switch (s)
+  {
+    case exploration::GroundState::Occupied: return '#';
+    case exploration::GroundState::Free: return '.';
+    default: return '?';
+  }
+}
+
+char spaceChar(exploration::SpaceState s)
+{
+  switch (s)
+  {
+    case exploration::SpaceState::Occupied: return '#';
+    case exploration::SpaceState::Collision: return 'C';
+    case exploration::SpaceState::MaybeCollision: return 'm';
+    case exploration::SpaceState::Free: return '.';
+    default: return '?';
+  }
+}
+
+/// The grid round one point, row by row from north to south, as text: what a
+/// step image shows, cell by cell, with the footprint's states of one bin.
+void printProbe(const exploration::PlanResult& r, const std::array<double, 3>& p, int radius,
+                std::ostream& out)
+{
+  using namespace exploration;
+  if (!r.ground || !r.space)
+  {
+    out << "probe: the step stopped before the collision space\n";
+    return;
+  }
+  const auto& G = r.ground->state;
+  Cell c;
+  if (!cellOf(G, Eigen::Vector2d(p[0], p[1]), c))
+  {
+    out << mrpt::format("probe (%.3f, %.3f): outside the grid\n", p[0], p[1]);
+    return;
+  }
+  const FootprintSpace* fs = r.footprint.get();
+  const int bin = fs ? fs->binOf(mrpt::DEG2RAD(p[2])) : 0;
+  out << mrpt::format("probe (%.3f, %.3f): cell (%d, %d) centre (%.3f, %.3f)", p[0], p[1], c.cx,
+                      c.cy, G.idx2x(c.cx), G.idx2y(c.cy));
+  if (fs)
+    out << mrpt::format(", bin %d (%.1f deg) of %d", bin, mrpt::RAD2DEG(fs->binYaw(bin)), fs->bins);
+  out << "\n  columns from x = " << mrpt::format("%.3f", G.idx2x(std::max(0, c.cx - radius)))
+      << ", rows from y = " << mrpt::format("%.3f", G.idx2y(c.cy + radius)) << " down; "
+      << "G | collision space" << (fs ? " | footprint bin (R reached, c clear, u clear of "
+                                       "occupied only, x blocked; * = the probe)"
+                                    : "")
+      << "\n";
+  const auto bit = YawMask{1} << bin;
+  for (int cy = c.cy + radius; cy >= c.cy - radius; --cy)
+  {
+    std::string a, b, f;
+    for (int cx = c.cx - radius; cx <= c.cx + radius; ++cx)
+    {
+      if (!inGrid(G, cx, cy))
+      {
+        a += ' ', b += ' ', f += ' ';
+        continue;
+      }
+      const bool centre = cx == c.cx && cy == c.cy;
+      a += centre ? '*' : groundChar(*G.cellByIndex(cx, cy));
+      b += centre ? '*' : spaceChar(*r.space->state.cellByIndex(cx, cy));
+      if (fs)
+      {
+        char ch = 'x';
+        if (*fs->reach.cellByIndex(cx, cy) & bit)
+          ch = 'R';
+        else if (*fs->clear.cellByIndex(cx, cy) & bit)
+          ch = 'c';
+        else if (*fs->clear_occ.cellByIndex(cx, cy) & bit)
+          ch = 'u';
+        f += centre ? '*' : ch;
+      }
+    }
+    out << "  " << a << " | " << b << (fs ? " | " + f : std::string()) << "\n";
+  }
+  if (fs)
+  {
+    const auto bits = [&](const Grid<YawMask>& g) {
+      std::string s;
+      for (int k = 0; k < fs->bins; ++k) s += (*g.cellByIndex(c.cx, c.cy) >> k) & 1 ? '1' : '0';
+      return s;
+    };
+    out << "  bins at the probe (0 .. " << fs->bins - 1 << "): clear_occ " << bits(fs->clear_occ)
+        << ", clear " << bits(fs->clear) << ", clear_turn " << bits(fs->clear_turn)
+        << ", reach " << bits(fs->reach) << "\n";
+  }
+}
 }  // namespace
 
 int PlanApp::run(int argc, const char* const* argv)
@@ -36,6 +132,15 @@ int PlanApp::run(int argc, const char* const* argv)
                                4, "N", cmd);
     TCLAP::SwitchArg no_bl("", "ignore-blacklist", "Plan as if no target had been given up", cmd);
     TCLAP::SwitchArg no_so("", "ignore-sensed", "Plan without the points the driver sensed", cmd);
+    TCLAP::MultiArg<std::string> probe(
+        "", "probe",
+        "Print the grid round X,Y [m] (and the footprint's states in the bin of YAW [deg], "
+        "default 0): G (# occupied, ? unknown, . free), the collision space, and per cell "
+        "whether the rectangle in that bin is reached (R), clear but not reached (c), clear of "
+        "occupied cells only (u), or blocked (x). Repeatable.",
+        false, "X,Y[,YAW]", cmd);
+    TCLAP::ValueArg<int> probe_r("", "probe-radius", "Cells each side of a probe (default 12)",
+                                 false, 12, "N", cmd);
     if (!cmd.parse(argc, const_cast<const char**>(argv)))
       return exitCodeAfterFailedParse(argc, argv);
     PlanOptions o;
@@ -46,6 +151,18 @@ int PlanApp::run(int argc, const char* const* argv)
     o.ignore_blacklist = no_bl.getValue();
     o.ignore_sensed = no_so.getValue();
     if (o.scale < 1) throw std::runtime_error("--scale must be >= 1");
+    o.probe_radius = probe_r.getValue();
+    if (o.probe_radius < 1 || o.probe_radius > 200)
+      throw std::runtime_error("--probe-radius must be in 1..200");
+    for (const auto& p : probe.getValue())
+    {
+      std::array<double, 3> v{0, 0, 0};
+      char c1 = 0, c2 = 0;
+      const int n = std::sscanf(p.c_str(), "%lf%c%lf%c%lf", &v[0], &c1, &v[1], &c2, &v[2]);
+      if ((n != 3 && n != 5) || c1 != ',' || (n == 5 && c2 != ','))
+        throw std::runtime_error("--probe '" + p + "': expected X,Y or X,Y,YAW (metres, degrees)");
+      o.probes.push_back(v);
+    }
     execute(o, std::cout);
     return 0;
   });
@@ -115,6 +232,7 @@ exploration::PlanResult PlanApp::execute(const PlanOptions& o, std::ostream& out
                       "sampling %.1f, rating %.1f, path %.1f, total %.1f\n",
                       r.ms.projection, r.ms.collision, r.ms.frontiers, r.ms.rooms, r.ms.tour,
                       r.ms.sampling, r.ms.rating, r.ms.path, r.ms.total);
+  for (const auto& p : o.probes) printProbe(r, p, o.probe_radius, out);
   if (!o.png.empty()) exploration::renderPlan(r, in.robot, o.png, {}, o.scale);
   return r;
 }

@@ -153,6 +153,26 @@ FootprintSpace computeFootprintSpace(
     clear[i] = clear_occ[i] & ~blocked_unk[i];
     clear_turn[i] = clear[i] & ~blocked_turn[i];
   }
+  // The rectangle moved sideways by footprint_lateral_m either way: a state
+  // is clear for translation when it fits at one of the three places (each
+  // tested against both occupied and open unknown cells at that place).
+  // Turning stays at the cell centre.
+  if (p.footprint_lateral_m > 0)
+  {
+    const double a = 0.5 * fs.length_m, b = 0.5 * fs.width_m;
+    const auto left = makeStamp(a, b, fs.margin_m, res, fs.bins, share, span, p.footprint_lateral_m);
+    const auto right = makeStamp(a, b, fs.margin_m, res, fs.bins, share, span, -p.footprint_lateral_m);
+    const StampRows sides = toRows(left, &right);
+    std::vector<YawMask> occ_l(n, 0), occ_r(n, 0), unk_l(n, 0), unk_r(n, 0);
+    stampAt(occ_l, &occ_r, occ_border, nx, ny, sides);
+    stampAt(unk_l, &unk_r, unk_border, nx, ny, sides);
+    for (std::size_t i = 0; i < n; ++i)
+    {
+      if (ground[i] != GroundState::Free) continue;
+      clear_occ[i] |= all & ~(occ_l[i] & occ_r[i]);
+      clear[i] |= (all & ~(occ_l[i] | unk_l[i])) | (all & ~(occ_r[i] | unk_r[i]));
+    }
+  }
 
   // Where the body has been it can be again: the states of the swept path
   // (and of the 4-connected cells between consecutive poses) count as clear

@@ -28,7 +28,7 @@ bool overlapModPi(double lo1, double hi1, double lo2, double hi2)
 }  // namespace
 
 std::vector<StampEntry> makeStamp(double a, double b, double margin, double res, int bins,
-                                  double square_share, double bin_span)
+                                  double square_share, double bin_span, double lateral_m)
 {
   const double h = 0.5 * res * square_share, delta = kPi / bins, half = 0.5 * delta * bin_span;
   std::vector<double> ak(bins), bk(bins);
@@ -52,15 +52,19 @@ std::vector<StampEntry> makeStamp(double a, double b, double margin, double res,
     bk[k] = b + margin + h * s;
     reach = std::max(reach, std::hypot(ak[k], bk[k]));
   }
-  const int n = static_cast<int>(std::ceil(reach / res));
+  const int n = static_cast<int>(std::ceil((reach + std::abs(lateral_m)) / res));
   std::vector<StampEntry> out;
   for (int dy = -n; dy <= n; ++dy)
     for (int dx = -n; dx <= n; ++dx)
     {
-      const double rho = res * std::hypot(dx, dy), alpha = std::atan2(dy, dx);
       YawMask m = 0;
       for (int k = 0; k < bins; ++k)
       {
+        // The obstacle seen from the rectangle's centre, moved lateral_m
+        // along the +Y axis of the bin's centre yaw.
+        const double px = res * dx + lateral_m * std::sin(k * delta),
+                     py = res * dy - lateral_m * std::cos(k * delta);
+        const double rho = std::hypot(px, py), alpha = std::atan2(py, px);
         bool blocked;
         if (rho <= bk[k] && rho <= ak[k])
           blocked = true;

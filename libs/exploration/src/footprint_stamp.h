@@ -27,9 +27,12 @@ struct StampEntry
 /// conservative only round the corners. The blocked yaws of a point at
 /// (rho, alpha) are theta = alpha -+ phi with acos(a'/rho) <= phi <= asin(b'/rho).
 /// With bin_span < 1 only the yaws within bin_span times half the bin's
-/// width of its centre count (0: the centre yaw alone).
+/// width of its centre count (0: the centre yaw alone). With lateral_m the
+/// rectangle's centre is moved that far along the +Y axis of each bin's
+/// centre yaw (sideways to the way the robot drives in that bin).
 std::vector<StampEntry> makeStamp(double a, double b, double margin, double res, int bins,
-                                  double square_share, double bin_span = 1.0);
+                                  double square_share, double bin_span = 1.0,
+                                  double lateral_m = 0.0);
 
 /// The cells of `src` with an 8-neighbour outside `src` (or on the grid
 /// border): a rectangle whose centre lies outside src and that overlaps a

@@ -4,7 +4,9 @@
 
 #include <voxplore/exploration/Planner.h>
 
+#include <array>
 #include <string>
+#include <vector>
 
 namespace voxplore::apps
 {
@@ -17,6 +19,12 @@ struct PlanOptions
   int scale = 4;       ///< pixels per cell of the image
   bool ignore_blacklist = false;  ///< plan as if no target had been given up
   bool ignore_sensed = false;     ///< ... and without the driver's sensed points
+  /// Print the grid round these points (x, y [m], yaw [deg]): G's states, the
+  /// collision space's, and, with the footprint model, which states of the
+  /// yaw's bin are clear of occupied cells, of open unknown, turnable and
+  /// reached (why the robot does or does not get through a door).
+  std::vector<std::array<double, 3>> probes;
+  int probe_radius = 12;  ///< cells each side of a probe
 };
 
 /// @brief voxplore-plan: reads a planning step's inputs and the planner's

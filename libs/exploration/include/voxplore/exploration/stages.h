@@ -140,6 +140,15 @@ struct CollisionParams : public mrpt::config::CLoadableOptions
   /// 0.85-0.90 m doors). Turning in place always keeps the turn margin over
   /// the whole bin.
   double footprint_bin_span = 1.0;
+  /// Footprint: a state is clear for translation also when the rectangle
+  /// fits moved up to this far sideways (across the bin's centre yaw, the
+  /// way the robot drives in that bin) from the cell centre: states lie on
+  /// cell centres, and a door whose middle falls between two centres lost
+  /// up to a cell of its width (b1, omniRob: a 0.90 m door mapped 0.80 m
+  /// wide was 1 mm too narrow at both centres). The driver's footprint
+  /// centring moves the body that far sideways where the sensed points ask
+  /// for it. 0: cell centres only [m].
+  double footprint_lateral_m = 0.0;
   /// Circle model: the cells round the poses the robot's centre has swept
   /// (the cell and its 8 neighbours) are Free when they keep r_coll_m +
   /// swept_passage_margin_m from every occupied cell centre: the robot's
