@@ -845,6 +845,41 @@ TEST(StopAndScanDriver, AFootprintWaypointOffTheDoorsMiddleIsCentredOnTheSensedJ
   EXPECT_EQ(probe.tooClose(), 0u) << "the footprint came within 2 cm of the world";
 }
 
+TEST(StopAndScanDriver, AFootprintDriveHeldByTheGuardOnTheWayTakesAParallelLane)
+{
+  // b1, omniRob, nbv: the plan's line through a 0.87 m door ran a few
+  // centimetres off its middle (the planner's states lie on cell centres);
+  // the guard held the body 3 cm from a post on the way, every drive was
+  // blocked and the room behind blacklisted. The waypoint itself is in the
+  // next room, free, so the waypoint's centring does not apply. Here the
+  // line through a 0.85 m door is 6 cm off its middle (the body's top side
+  // 0.9 cm from the upper jamb, y 2.425). The drive moves sideways onto the
+  // parallel line that keeps the guard's margin from what the sensors see
+  // and passes; without it, the guard holds it before the door.
+  const mrpt::poses::CPose2D start(3.0, 2.06, 0.0);
+  const Vector2d wp(5.0, 2.06);
+  {
+    SimRig off("omnirob", twoRoomsWorld(0.85), start, 0.0,
+               [](DriverParams& p) { p.footprint_centring_m = 0; });
+    const auto r = off.driver->driveFootprint(wp, 0.0);
+    ASSERT_EQ(r.outcome, DriveOutcome::Blocked) << "control: " << r.message;
+    EXPECT_TRUE(r.guard_held) << r.message;
+    EXPECT_LT(off.sim->robot().groundTruth().x() + 0.6, 4.0) << "held before the door";
+    EXPECT_EQ(off.collisions(), 0u);
+  }
+  ProbedOmniRob rig(twoRoomsWorld(0.85), start);
+  const auto r = rig.driver.driveFootprint(wp, 0.0);
+  std::cout << "[ parallel lane ] " << toString(r.outcome) << ": " << r.message << std::endl;
+  ASSERT_EQ(r.outcome, DriveOutcome::Reached) << r.message;
+  EXPECT_NE(r.message.find("lane moved"), std::string::npos) << r.message;
+  const auto gt = rig.simulator.robot().groundTruth();
+  EXPECT_NEAR(gt.x(), wp.x(), 0.05);
+  EXPECT_LE(gt.y() + 0.356, 2.425 - 0.03 + 0.005) << "on a line 3 cm from the upper jamb";
+  EXPECT_GE(gt.y(), wp.y() - 0.06 - 0.005) << "moved at most footprint_centring_m";
+  EXPECT_EQ(rig.simulator.robot().collisions(), 0u);
+  EXPECT_EQ(rig.probe.tooClose(), 0u) << "the footprint came within 2 cm of the world";
+}
+
 TEST(StopAndScanDriver, AFootprintDriveStartingAtTheGuardsMarginBacksOffFirst)
 {
   // The omniRob lengthwise in the 1.1 m corridor, its side 2.5 cm from the

@@ -91,6 +91,34 @@ DriveResult StopAndScanDriver::driveFootprint(const Eigen::Vector2d& waypoint, d
         blocking = std::move(first);
     }
   }
+  // Held by the guard on the way (not at the waypoint): the straight line
+  // passes a door post closer than the guard's margin, where a line a few
+  // centimetres to one side keeps it. The planner's states lie on cell
+  // centres, up to half a cell off a door's middle ([collision]
+  // footprint_lateral_m); the waypoint was never blocked, so the centring
+  // above does not apply. Move sideways, then along the parallel line to the
+  // waypoint moved as far (b1, omniRob, nbv: a 0.87 m door, every drive
+  // held 3 cm from a post and the room behind it blacklisted).
+  if (tr.outcome == DriveOutcome::Blocked && tr.guard_held && blocking.empty() &&
+      params_.footprint_centring_m > 0)
+  {
+    if (const auto side = laneOffset(waypoint, yaw_rad))
+    {
+      const CPose2D from = robot_.pose();
+      const Eigen::Vector2d n(-std::sin(yaw_rad), std::cos(yaw_rad));
+      const Eigen::Vector2d beside = Eigen::Vector2d(from.x(), from.y()) + *side * n;
+      // The move sideways is a few centimetres, under goal_tolerance_m.
+      DriveResult again = straightDrive(
+          beside, yaw_rad, [](auto&&...) -> Ending { return std::nullopt; }, 0.003);
+      if (again.reached())
+      {
+        blocked_steps = 0;
+        continueDrive(again, straightDrive(waypoint + *side * n, yaw_rad, rectangle_at_goal));
+      }
+      again.message = mrpt::format("lane moved %.3f m sideways: ", *side) + again.message;
+      continueDrive(tr, again);
+    }
+  }
   tr.blocking_points = std::move(blocking);
   if (turned)
   {
@@ -125,6 +153,54 @@ std::optional<Eigen::Vector2d> StopAndScanDriver::centredWaypoint(const Eigen::V
       p.inverseComposePoint(w.x(), w.y(), tx, ty);
       const CPose2D at(tx, ty, mrpt::math::wrapToPi(yaw_rad - p.phi()));
       if (rectangleClearance(band, hl, hw, at) >= params_.guard_margin_m) return w;
+    }
+  return std::nullopt;
+}
+
+}  // namespace voxplore::navigation
+
+namespace voxplore::navigation
+{
+std::optional<double> StopAndScanDriver::laneOffset(const Eigen::Vector2d& waypoint, double yaw_rad)
+{
+  mrpt::maps::CSimplePointsMap pts;
+  if (!robot_.obstacles(pts)) return std::nullopt;
+  std::vector<Eigen::Vector2d> band;
+  bandPoints(pts, params_.min_obstacle_height_m, params_.max_obstacle_height_m, band);
+  const CPose2D p = robot_.pose();
+  const double hl = 0.5 * params_.footprint_length_m, hw = 0.5 * params_.footprint_width_m;
+  const Eigen::Vector2d n(-std::sin(yaw_rad), std::cos(yaw_rad));
+  const Eigen::Vector2d here(p.x(), p.y());
+  // The rectangle at the held yaw and at the yaw the robot has now (it may
+  // not get to turn in a door), every 1 cm along both legs, keeps the
+  // guard's margin, or where the robot stands nearer (the guard held it at
+  // its margin) no less than it has there.
+  const double now = rectangleClearance(band, hl, hw, CPose2D(0, 0, 0));
+  const double need = std::min(params_.guard_margin_m, now - 1e-3);
+  // The line itself keeps a few millimetres more than the guard's margin
+  // (the guard holds a command that would come nearer within its horizon).
+  constexpr double kSpare = 0.005;
+  const auto keeps = [&](const Eigen::Vector2d& a, const Eigen::Vector2d& b, double min_m) {
+    const int steps = std::max(1, static_cast<int>(std::ceil((b - a).norm() / 0.01)));
+    for (int i = 0; i <= steps; ++i)
+    {
+      const Eigen::Vector2d q = a + (b - a) * (static_cast<double>(i) / steps);
+      double tx, ty;
+      p.inverseComposePoint(q.x(), q.y(), tx, ty);
+      for (const double dyaw : {mrpt::math::wrapToPi(yaw_rad - p.phi()), 0.0})
+        if (rectangleClearance(band, hl, hw, CPose2D(tx, ty, dyaw)) < min_m) return false;
+    }
+    return true;
+  };
+  constexpr double kStep = 0.005;
+  const int steps = static_cast<int>(std::floor(params_.footprint_centring_m / kStep + 1e-9));
+  for (int k = 1; k <= steps; ++k)
+    for (const double sign : {1.0, -1.0})
+    {
+      const double s = sign * k * kStep;
+      if (keeps(here, here + s * n, need) &&
+          keeps(here + s * n, waypoint + s * n, params_.guard_margin_m + kSpare))
+        return s;
     }
   return std::nullopt;
 }

@@ -42,8 +42,10 @@ DriveResult StopAndScanDriver::driveStraight(const Eigen::Vector2d& waypoint)
 }
 
 DriveResult StopAndScanDriver::straightDrive(const Eigen::Vector2d& waypoint,
-                                             std::optional<double> hold_yaw, const WayCheck& way)
+                                             std::optional<double> hold_yaw, const WayCheck& way,
+                                             double tolerance_m)
 {
+  const double tolerance = tolerance_m >= 0 ? tolerance_m : params_.goal_tolerance_m;
   DriveLog log(robot_, distanceTo(robot_.pose(), waypoint));
   mrpt::maps::CSimplePointsMap pts;
   std::vector<Eigen::Vector2d> band;
@@ -52,7 +54,7 @@ DriveResult StopAndScanDriver::straightDrive(const Eigen::Vector2d& waypoint,
   {
     const CPose2D p = robot_.pose();
     const double d = distanceTo(p, waypoint);
-    if (d <= params_.goal_tolerance_m)
+    if (d <= tolerance)
     {
       end = {{DriveOutcome::Reached, mrpt::format("reached within %.3f m", d)}};
       break;

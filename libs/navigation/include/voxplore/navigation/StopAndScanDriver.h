@@ -149,6 +149,13 @@ class StopAndScanDriver
   ///        rectangle in yaw_rad keeps guard_margin_m from every sensed
   ///        obstacle point; nullopt when none does (or the sensors fail).
   std::optional<Eigen::Vector2d> centredWaypoint(const Eigen::Vector2d& waypoint, double yaw_rad);
+  /// @brief The least sideways move (across yaw_rad, a multiple of 5 mm up
+  ///        to footprint_centring_m) after which the straight line to the
+  ///        waypoint moved as far keeps guard_margin_m from every sensed
+  ///        obstacle point, for the rectangle at yaw_rad and at the robot's
+  ///        yaw, on the move sideways and on the line; nullopt when none
+  ///        does (or the sensors fail).
+  std::optional<double> laneOffset(const Eigen::Vector2d& waypoint, double yaw_rad);
 
   const DriverParams& params() const { return params_; }
 
@@ -172,10 +179,11 @@ class StopAndScanDriver
       const mrpt::poses::CPose2D& pose)>;
   /// The straight holonomic drive of driveStraight() and driveFootprint():
   /// at the waypoint, slowing down over the last 0.3 m, holding `hold_yaw`
-  /// when given (else not turning), until goal_tolerance_m, `way` says
-  /// stop, or checkAfterStep / the guard ends it.
+  /// when given (else not turning), until goal_tolerance_m (or
+  /// tolerance_m when >= 0), `way` says stop, or checkAfterStep / the guard
+  /// ends it.
   DriveResult straightDrive(const Eigen::Vector2d& waypoint, std::optional<double> hold_yaw,
-                            const WayCheck& way);
+                            const WayCheck& way, double tolerance_m = -1);
   /// The turn to `final_yaw_rad` at a reached waypoint (driveTo(),
   /// driveFootprint()), appended to `res`.
   void turnAtWaypoint(DriveResult& res, std::optional<double> final_yaw_rad);
