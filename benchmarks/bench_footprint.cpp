@@ -3,10 +3,12 @@
 // on the same map. Target: under 30 ms each on a 500 m^2 map at 5 cm, one
 // core (run under taskset -c 1, Release).
 //
-// Map: --map=<file.bt> (a voxplore-explore map.bt), robot pose --pose=x,y,yaw_deg
+// Map: --map=<file.bt> (a voxplore-explore map.bt), planner keys --config=<ini>
+// (optional; the code's defaults without it), robot pose --pose=x,y,yaw_deg
 // (default: the map's first free cell found from the middle), goal: the reached
 // cell farthest (straight line) from the robot.
 #include <benchmark/benchmark.h>
+#include <mrpt/config/CConfigFile.h>
 #include <mrpt/core/bits_math.h>
 #include <octomap/OcTree.h>
 #include <voxplore/exploration/Planner.h>
@@ -26,7 +28,7 @@ using namespace voxplore::exploration;
 
 namespace
 {
-std::string g_map_path;
+std::string g_map_path, g_config_path;
 double g_x = 0, g_y = 0, g_yaw = 0;
 
 struct Fixture
@@ -50,6 +52,13 @@ const Fixture& fixture()
   f->tree = std::make_unique<octomap::OcTree>(g_map_path);
   if (f->tree->size() == 0) throw std::runtime_error("bench_footprint: empty map " + g_map_path);
   f->robot = mrpt::poses::CPose2D(g_x, g_y, mrpt::DEG2RAD(g_yaw));
+  if (!g_config_path.empty())
+  {
+    // The planner's keys (e.g. footprint_bin_span and footprint_lateral_m of
+    // [collision]); the robot stays the omniRob.
+    mrpt::config::CConfigFile ini(g_config_path);
+    f->params.load(ini);
+  }
   f->params.collision.model = CollisionParams::Model::Footprint;
   f->params.projection.footprint_length_m = f->params.collision.footprint_length_m;
   f->params.projection.footprint_width_m = f->params.collision.footprint_width_m;
@@ -157,6 +166,7 @@ int main(int argc, char** argv)
   voxplore::bench::MapArgs a;
   if (!voxplore::bench::parseMapArgs(argc, argv, "bench_footprint", a)) return 2;
   g_map_path = a.map;
+  g_config_path = a.config;
   g_x = a.x;
   g_y = a.y;
   g_yaw = a.yaw_deg;

@@ -131,11 +131,21 @@ FootprintSpace computeFootprintSpace(
   for (std::size_t i = 0; i < n; ++i) occ[i] = ground[i] == GroundState::Occupied;
   const std::vector<int> occ_border = borderCells(occ, nx, ny);
   const std::vector<int> unk_border = borderCells(cs.open_unknown, nx, ny);
-  // One pass per border list stamps both margins.
-  const StampRows both = toRows(stamp, &stamp_turn);
+  // One pass per border list stamps both margins. Up to 32 bins, both go
+  // into one 64-bit mask per cell (the turn margin's in the upper half).
+  const bool pack = fs.bins <= 32;
+  const YawMask low = pack ? (YawMask(1) << 32) - 1 : ~YawMask(0);
+  const StampRows both = toRows(stamp, &stamp_turn, pack);
   std::vector<YawMask> blocked_occ(n, 0), blocked_unk(n, 0), blocked_turn(n, 0);
-  stampAt(blocked_occ, &blocked_turn, occ_border, nx, ny, both);
-  stampAt(blocked_unk, &blocked_turn, unk_border, nx, ny, both);
+  stampAt(blocked_occ, pack ? nullptr : &blocked_turn, occ_border, nx, ny, both);
+  stampAt(blocked_unk, pack ? nullptr : &blocked_turn, unk_border, nx, ny, both);
+  if (pack)
+    for (std::size_t i = 0; i < n; ++i)
+    {
+      blocked_turn[i] = (blocked_occ[i] | blocked_unk[i]) >> 32;
+      blocked_occ[i] &= low;
+      blocked_unk[i] &= low;
+    }
 
   const YawMask all = fs.allBins();
   // Written in place into the grids returned (no copies of 2 MB layers).
@@ -156,21 +166,28 @@ FootprintSpace computeFootprintSpace(
   // The rectangle moved sideways by footprint_lateral_m either way: a state
   // is clear for translation when it fits at one of the three places (each
   // tested against both occupied and open unknown cells at that place).
-  // Turning stays at the cell centre.
+  // Turning stays at the cell centre. clear_occ takes the moved states that
+  // are clear of both only (those clear of occupied cells alone stay
+  // MaybeCollision-free: one layer per side instead of two).
   if (p.footprint_lateral_m > 0)
   {
     const double a = 0.5 * fs.length_m, b = 0.5 * fs.width_m;
     const auto left = makeStamp(a, b, fs.margin_m, res, fs.bins, share, span, p.footprint_lateral_m);
     const auto right = makeStamp(a, b, fs.margin_m, res, fs.bins, share, span, -p.footprint_lateral_m);
-    const StampRows sides = toRows(left, &right);
-    std::vector<YawMask> occ_l(n, 0), occ_r(n, 0), unk_l(n, 0), unk_r(n, 0);
-    stampAt(occ_l, &occ_r, occ_border, nx, ny, sides);
-    stampAt(unk_l, &unk_r, unk_border, nx, ny, sides);
+    // Occupied and open unknown squares block alike here: one layer (per
+    // side) holds both. A state clear moved sideways is clear of occupied
+    // cells too.
+    const StampRows sides = toRows(left, &right, pack);
+    std::vector<YawMask> side_l(n, 0), side_r;
+    if (!pack) side_r.assign(n, 0);
+    stampAt(side_l, pack ? nullptr : &side_r, occ_border, nx, ny, sides);
+    stampAt(side_l, pack ? nullptr : &side_r, unk_border, nx, ny, sides);
     for (std::size_t i = 0; i < n; ++i)
     {
       if (ground[i] != GroundState::Free) continue;
-      clear_occ[i] |= all & ~(occ_l[i] & occ_r[i]);
-      clear[i] |= (all & ~(occ_l[i] | unk_l[i])) | (all & ~(occ_r[i] | unk_r[i]));
+      const YawMask l = side_l[i] & low, r = pack ? side_l[i] >> 32 : side_r[i];
+      clear[i] |= all & ~(l & r);
+      clear_occ[i] |= clear[i];
     }
   }
 

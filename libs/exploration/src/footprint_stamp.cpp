@@ -104,7 +104,8 @@ std::vector<int> borderCells(const std::vector<uint8_t>& src, int nx, int ny)
   return out;
 }
 
-StampRows toRows(const std::vector<StampEntry>& first, const std::vector<StampEntry>* second)
+StampRows toRows(const std::vector<StampEntry>& first, const std::vector<StampEntry>* second,
+                 bool pack)
 {
   std::map<int, std::map<int, std::pair<YawMask, YawMask>>> by_row;
   for (const StampEntry& e : first) by_row[e.dy][e.dx].first |= e.bins;
@@ -119,12 +120,17 @@ StampRows toRows(const std::vector<StampEntry>& first, const std::vector<StampEn
     r.dx_max = cells.rbegin()->first;
     const std::size_t len = static_cast<std::size_t>(r.dx_max - lo + 1);
     r.a.assign(len, 0);
-    if (second) r.b.assign(len, 0);
+    if (second && !pack) r.b.assign(len, 0);
     for (const auto& [dx, m] : cells)
     {
       const std::size_t k = static_cast<std::size_t>(r.dx_max - dx);
-      r.a[k] = m.first;
-      if (second) r.b[k] = m.second;
+      if (pack)
+        r.a[k] = m.first | (m.second << 32);
+      else
+      {
+        r.a[k] = m.first;
+        if (second) r.b[k] = m.second;
+      }
     }
     out.rows.push_back(std::move(r));
   }

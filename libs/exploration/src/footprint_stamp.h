@@ -54,7 +54,11 @@ struct StampRows
 };
 
 /// Rows of `first`, and of `second` when given (then each row holds both).
-StampRows toRows(const std::vector<StampEntry>& first, const std::vector<StampEntry>* second);
+/// With `pack` (both stamps of at most 32 bins) the second stamp's bins go
+/// into the upper 32 bits of `a` and `b` stays empty: one array to OR into,
+/// half the memory traffic of two.
+StampRows toRows(const std::vector<StampEntry>& first, const std::vector<StampEntry>* second,
+                 bool pack = false);
 
 /// ORs the stamp's rows into `a` (and their second masks into `b`, when the
 /// rows hold two) round every cell of `borders`.
