@@ -166,28 +166,27 @@ FootprintSpace computeFootprintSpace(
   // The rectangle moved sideways by footprint_lateral_m either way: a state
   // is clear for translation when it fits at one of the three places (each
   // tested against both occupied and open unknown cells at that place).
-  // Turning stays at the cell centre. clear_occ takes the moved states that
-  // are clear of both only (those clear of occupied cells alone stay
-  // MaybeCollision-free: one layer per side instead of two).
+  // Turning stays at the cell centre.
   if (p.footprint_lateral_m > 0)
   {
     const double a = 0.5 * fs.length_m, b = 0.5 * fs.width_m;
     const auto left = makeStamp(a, b, fs.margin_m, res, fs.bins, share, span, p.footprint_lateral_m);
     const auto right = makeStamp(a, b, fs.margin_m, res, fs.bins, share, span, -p.footprint_lateral_m);
-    // Occupied and open unknown squares block alike here: one layer (per
-    // side) holds both. A state clear moved sideways is clear of occupied
-    // cells too.
+    // The occupied squares' layer, then a copy of it that the open unknown
+    // squares are stamped into as well (one pass per border list, as above).
     const StampRows sides = toRows(left, &right, pack);
-    std::vector<YawMask> side_l(n, 0), side_r;
-    if (!pack) side_r.assign(n, 0);
-    stampAt(side_l, pack ? nullptr : &side_r, occ_border, nx, ny, sides);
-    stampAt(side_l, pack ? nullptr : &side_r, unk_border, nx, ny, sides);
+    std::vector<YawMask> occ_l(n, 0), occ_r;
+    if (!pack) occ_r.assign(n, 0);
+    stampAt(occ_l, pack ? nullptr : &occ_r, occ_border, nx, ny, sides);
+    std::vector<YawMask> any_l = occ_l, any_r = occ_r;
+    stampAt(any_l, pack ? nullptr : &any_r, unk_border, nx, ny, sides);
     for (std::size_t i = 0; i < n; ++i)
     {
       if (ground[i] != GroundState::Free) continue;
-      const YawMask l = side_l[i] & low, r = pack ? side_l[i] >> 32 : side_r[i];
-      clear[i] |= all & ~(l & r);
-      clear_occ[i] |= clear[i];
+      const YawMask ol = occ_l[i] & low, orr = pack ? occ_l[i] >> 32 : occ_r[i];
+      const YawMask al = any_l[i] & low, ar = pack ? any_l[i] >> 32 : any_r[i];
+      clear_occ[i] |= all & ~(ol & orr);
+      clear[i] |= all & ~(al & ar);
     }
   }
 
