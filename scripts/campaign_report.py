@@ -9,7 +9,10 @@ each run's run.json (campaign_run.sh), summary.json and coverage.csv
 DIR/invocations.tsv, and writes
 
   DIR/runs.csv   one row per spec line, in spec order; a run that failed or has
-                 not run is a row with its error ("not run" without a run.json)
+                 not run is a row with its error ("not run" without a run.json);
+                 for a generated building, the doors the run went through (both
+                 regions a door joins hold a ground-truth pose), all and those
+                 under 0.90 m
   DIR/report.md  per (strategy, robot) means and worst cases, path per m2 of
                  floor, nbv/nearest path ratios paired per (world, robot, seed),
                  paths and times to 90 % / 97 % coverage, all runs, failures,
@@ -140,6 +143,39 @@ def first_reaching(series, x):
 
 # --- one row per run ----------------------------------------------------------
 
+NARROW_DOOR_M = 0.90
+
+
+def doors_passed(building, gt_path):
+    """Doors of a generated building (building.json: regions with rects,
+    doors joining two regions) that the run went through: both regions hold
+    a ground-truth pose. All and those under NARROW_DOOR_M; empty when the
+    world has no doors or the run no ground truth."""
+    out = {"doors": None, "doors_passed": None, "doors_narrow": None, "doors_narrow_passed": None}
+    doors = (building or {}).get("doors") or []
+    regions = (building or {}).get("regions") or []
+    if not doors or not regions or not os.path.exists(gt_path):
+        return out
+    seen = set()
+    with open(gt_path) as f:
+        for line in f:
+            v = line.split()
+            if not v or line.startswith("#") or len(v) < 3:
+                continue
+            x, y = float(v[1]), float(v[2])
+            for reg in regions:
+                if any(x0 <= x <= x1 and y0 <= y <= y1 for (x0, y0, x1, y1) in reg.get("rects", [])):
+                    seen.add(reg.get("id"))
+                    break
+    passed = [all(k in seen for k in d.get("regions", [])) for d in doors]
+    narrow = [float(d.get("width_m", 0)) < NARROW_DOOR_M for d in doors]
+    out["doors"] = len(doors)
+    out["doors_passed"] = sum(passed)
+    out["doors_narrow"] = sum(narrow)
+    out["doors_narrow_passed"] = sum(p and n for p, n in zip(passed, narrow))
+    return out
+
+
 def collect(camp, jobs):
     runs = []
     for job in jobs:
@@ -172,6 +208,7 @@ def collect(camp, jobs):
         elif r["building_floor_area_m2"]:
             area, source = r["building_floor_area_m2"], "building.json floor_area_m2"
         r["path_per_m2"] = path / area if path is not None and area else None
+        r.update(doors_passed(building, os.path.join(rd, "trajectory_gt.tum")))
         r["floor_source"] = source if r["path_per_m2"] is not None else ""
         for x in THRESHOLDS:
             hit = first_reaching(series, x) if series else None
@@ -219,7 +256,8 @@ def write_runs_csv(camp, runs):
     cov, m2, other = summary_columns(runs)
     header = (["world", "robot", "strategy", "seed", "extra_args", "exit_status", "error"]
               + list(HEAD_KEYS) + cov + m2
-              + ["building_floor_area_m2", "layout", "path_per_m2", "floor_source"] + list(TAIL_KEYS) + other
+              + ["building_floor_area_m2", "layout", "path_per_m2", "floor_source"]
+              + ["doors", "doors_passed", "doors_narrow", "doors_narrow_passed"] + list(TAIL_KEYS) + other
               + ["path_to_90_m", "time_to_90_s", "path_to_97_m", "time_to_97_s"]
               + list(COST_KEYS) + ["run_dir"])
     with open(os.path.join(camp, "runs.csv"), "w", newline="") as f:
@@ -231,6 +269,7 @@ def write_runs_csv(camp, runs):
                    r["exit_status"], r["error"]]
             row += [s.get(k) for k in HEAD_KEYS] + [s.get(k) for k in cov] + [s.get(k) for k in m2]
             row += [r["building_floor_area_m2"], r["layout"], r["path_per_m2"], r["floor_source"]]
+            row += [r["doors"], r["doors_passed"], r["doors_narrow"], r["doors_narrow_passed"]]
             row += [s.get(k) for k in TAIL_KEYS] + [s.get(k) for k in other]
             for x in (90, 97):
                 hit = r["reach_%d" % x]

@@ -147,5 +147,29 @@ grep -q "1 closure(s), 0 suspect" "$TMP/right.md" || fail "check_loops: $(cat "$
 grep -q "1 closure(s), 1 suspect" "$TMP/false.md" || fail "check_loops: $(cat "$TMP/false.md")"
 "$REPO/scripts/check_loops.py" "$TMP/no_such_dir" > /dev/null 2>&1 && fail "check_loops: a missing directory is not an error"
 
+# Doors passed (campaign_report.doors_passed): two rooms joined by a 0.85 m
+# door and a corridor joined by a 0.95 m one; the truth goes from room 1 into
+# room 2 only.
+python3 - "$REPO/scripts" "$TMP" <<'EOF' || fail "doors_passed"
+import os, sys
+sys.dont_write_bytecode = True
+sys.path.insert(0, sys.argv[1])
+import campaign_report as cr
+tmp = sys.argv[2]
+building = {"regions": [{"id": 1, "rects": [[0, 0, 4, 4]]}, {"id": 2, "rects": [[4.1, 0, 8, 4]]},
+                        {"id": 3, "rects": [[0, 4.1, 8, 6]]}],
+            "doors": [{"regions": [1, 2], "width_m": 0.85}, {"regions": [1, 3], "width_m": 0.95}]}
+gt = os.path.join(tmp, "doors_gt.tum")
+with open(gt, "w") as f:
+    f.write("# timestamp tx ty tz qx qy qz qw\n")
+    for k, x in enumerate([1.0, 3.0, 5.0, 7.0]):
+        f.write("%d %f 2.0 0 0 0 0 1\n" % (k, x))
+d = cr.doors_passed(building, gt)
+assert d == {"doors": 2, "doors_passed": 1, "doors_narrow": 1, "doors_narrow_passed": 1}, d
+assert cr.doors_passed({}, gt)["doors"] is None
+assert cr.doors_passed(building, os.path.join(tmp, "missing.tum"))["doors"] is None
+print("campaign_test: doors_passed ok")
+EOF
+
 ok=1
 echo "campaign_test: PASS"
