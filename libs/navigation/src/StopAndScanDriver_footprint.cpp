@@ -20,6 +20,33 @@ namespace voxplore::navigation
 using mrpt::poses::CPose2D;
 using namespace detail;
 
+namespace
+{
+/// The obstacle points the robot senses in the navigator's height band
+/// (robot frame); nullopt when its sensors fail.
+std::optional<std::vector<Eigen::Vector2d>> sensedBand(RobotInterface& robot, const DriverParams& p)
+{
+  mrpt::maps::CSimplePointsMap pts;
+  if (!robot.obstacles(pts)) return std::nullopt;
+  std::vector<Eigen::Vector2d> band;
+  bandPoints(pts, p.min_obstacle_height_m, p.max_obstacle_height_m, band);
+  return band;
+}
+
+/// The least sideways offset, a multiple of 5 mm up to max_m, either way
+/// (+ first), for which ok(offset) holds.
+template <typename Ok>
+std::optional<double> leastSideways(double max_m, const Ok& ok)
+{
+  constexpr double kStep = 0.005;
+  const int steps = static_cast<int>(std::floor(max_m / kStep + 1e-9));
+  for (int k = 1; k <= steps; ++k)
+    for (const double sign : {1.0, -1.0})
+      if (ok(sign * k * kStep)) return sign * k * kStep;
+  return std::nullopt;
+}
+}  // namespace
+
 DriveResult StopAndScanDriver::driveFootprint(const Eigen::Vector2d& waypoint, double yaw_rad,
                                               std::optional<double> final_yaw_rad)
 {
@@ -136,37 +163,27 @@ DriveResult StopAndScanDriver::driveFootprint(const Eigen::Vector2d& waypoint, d
 std::optional<Eigen::Vector2d> StopAndScanDriver::centredWaypoint(const Eigen::Vector2d& waypoint,
                                                                    double yaw_rad)
 {
-  mrpt::maps::CSimplePointsMap pts;
-  if (!robot_.obstacles(pts)) return std::nullopt;
-  std::vector<Eigen::Vector2d> band;
-  bandPoints(pts, params_.min_obstacle_height_m, params_.max_obstacle_height_m, band);
+  const auto band = sensedBand(robot_, params_);
+  if (!band) return std::nullopt;
   const CPose2D p = robot_.pose();
   const double hl = 0.5 * params_.footprint_length_m, hw = 0.5 * params_.footprint_width_m;
   const Eigen::Vector2d side(-std::sin(yaw_rad), std::cos(yaw_rad));
-  constexpr double kStep = 0.005;
-  const int steps = static_cast<int>(std::floor(params_.footprint_centring_m / kStep + 1e-9));
-  for (int k = 1; k <= steps; ++k)
-    for (const double sign : {1.0, -1.0})
-    {
-      const Eigen::Vector2d w = waypoint + sign * k * kStep * side;
-      double tx, ty;
-      p.inverseComposePoint(w.x(), w.y(), tx, ty);
-      const CPose2D at(tx, ty, mrpt::math::wrapToPi(yaw_rad - p.phi()));
-      if (rectangleClearance(band, hl, hw, at) >= params_.guard_margin_m) return w;
-    }
-  return std::nullopt;
+  const auto s = leastSideways(params_.footprint_centring_m, [&](double s) {
+    const Eigen::Vector2d w = waypoint + s * side;
+    double tx, ty;
+    p.inverseComposePoint(w.x(), w.y(), tx, ty);
+    const CPose2D at(tx, ty, mrpt::math::wrapToPi(yaw_rad - p.phi()));
+    return rectangleClearance(*band, hl, hw, at) >= params_.guard_margin_m;
+  });
+  if (!s) return std::nullopt;
+  return Eigen::Vector2d(waypoint + *s * side);
 }
 
-}  // namespace voxplore::navigation
-
-namespace voxplore::navigation
-{
 std::optional<double> StopAndScanDriver::laneOffset(const Eigen::Vector2d& waypoint, double yaw_rad)
 {
-  mrpt::maps::CSimplePointsMap pts;
-  if (!robot_.obstacles(pts)) return std::nullopt;
-  std::vector<Eigen::Vector2d> band;
-  bandPoints(pts, params_.min_obstacle_height_m, params_.max_obstacle_height_m, band);
+  const auto sensed = sensedBand(robot_, params_);
+  if (!sensed) return std::nullopt;
+  const std::vector<Eigen::Vector2d>& band = *sensed;
   const CPose2D p = robot_.pose();
   const double hl = 0.5 * params_.footprint_length_m, hw = 0.5 * params_.footprint_width_m;
   const Eigen::Vector2d n(-std::sin(yaw_rad), std::cos(yaw_rad));
@@ -192,17 +209,10 @@ std::optional<double> StopAndScanDriver::laneOffset(const Eigen::Vector2d& waypo
     }
     return true;
   };
-  constexpr double kStep = 0.005;
-  const int steps = static_cast<int>(std::floor(params_.footprint_centring_m / kStep + 1e-9));
-  for (int k = 1; k <= steps; ++k)
-    for (const double sign : {1.0, -1.0})
-    {
-      const double s = sign * k * kStep;
-      if (keeps(here, here + s * n, need) &&
-          keeps(here + s * n, waypoint + s * n, params_.guard_margin_m + kSpare))
-        return s;
-    }
-  return std::nullopt;
+  return leastSideways(params_.footprint_centring_m, [&](double s) {
+    return keeps(here, here + s * n, need) &&
+           keeps(here + s * n, waypoint + s * n, params_.guard_margin_m + kSpare);
+  });
 }
 
 }  // namespace voxplore::navigation
