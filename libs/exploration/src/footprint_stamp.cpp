@@ -53,6 +53,14 @@ std::vector<StampEntry> makeStamp(double a, double b, double margin, double res,
     reach = std::max(reach, std::hypot(ak[k], bk[k]));
   }
   const int n = static_cast<int>(std::ceil((reach + std::abs(lateral_m)) / res));
+  // The obstacle seen from the rectangle's centre moved lateral_m along the
+  // +Y axis of the bin's centre yaw: the offset to add, per bin.
+  std::vector<double> sx(bins), sy(bins);
+  for (int k = 0; k < bins; ++k)
+  {
+    sx[k] = lateral_m * std::sin(k * delta);
+    sy[k] = -lateral_m * std::cos(k * delta);
+  }
   std::vector<StampEntry> out;
   for (int dy = -n; dy <= n; ++dy)
     for (int dx = -n; dx <= n; ++dx)
@@ -60,18 +68,16 @@ std::vector<StampEntry> makeStamp(double a, double b, double margin, double res,
       YawMask m = 0;
       for (int k = 0; k < bins; ++k)
       {
-        // The obstacle seen from the rectangle's centre, moved lateral_m
-        // along the +Y axis of the bin's centre yaw.
-        const double px = res * dx + lateral_m * std::sin(k * delta),
-                     py = res * dy - lateral_m * std::cos(k * delta);
-        const double rho = std::hypot(px, py), alpha = std::atan2(py, px);
+        const double px = res * dx + sx[k], py = res * dy + sy[k];
+        const double rho2 = px * px + py * py;
         bool blocked;
-        if (rho <= bk[k] && rho <= ak[k])
+        if (rho2 <= bk[k] * bk[k] && rho2 <= ak[k] * ak[k])
           blocked = true;
-        else if (rho * rho > ak[k] * ak[k] + bk[k] * bk[k])
+        else if (rho2 > ak[k] * ak[k] + bk[k] * bk[k])
           blocked = false;
         else
         {
+          const double rho = std::sqrt(rho2), alpha = std::atan2(py, px);
           const double phi1 = rho > ak[k] ? std::acos(ak[k] / rho) : 0.0;
           const double phi2 = rho > bk[k] ? std::asin(bk[k] / rho) : 0.5 * kPi;
           const double lo = k * delta - half, hi = k * delta + half;
