@@ -678,3 +678,48 @@ TEST(FootprintSpace, ADoorWhoseMiddleFallsBetweenTwoCellCentresIsPassedMovedSide
   paint(g, 0.0, 0.1, 0.35, 0.40, GroundState::Occupied);
   EXPECT_FALSE(reachedAt(footprintSpaceOf(g, start, p), -1.5, 0.025));
 }
+
+TEST(FootprintSpace, MoreThan32BinsGiveTheClearStatesOfTheir32BinHalves)
+{
+  // Up to 32 bins both stamps of a pass share one 64-bit mask per cell;
+  // above, they go into two layers. At their centre yaws alone
+  // (footprint_bin_span 0), bin 2k of 64 is bin k of 32: both layouts must
+  // give the same clear states there (occupied, open unknown, the sideways
+  // move). The turn margin holds over the whole bin: a bin half as wide
+  // is turnable wherever the wider one is.
+  GroundGrid g = twoRoomsWithADoor(0.90);
+  paint(g, 2.0, 3.1, -1.5, 1.5, GroundState::Unknown);  // unexplored floor in the right room
+  const CPose2D start(1.2, 0.0, 0.0);
+  CollisionParams p = omniRob();
+  p.footprint_bin_span = 0.0;
+  p.footprint_lateral_m = 0.025;
+  p.yaw_bins = 32;
+  const Planned packed = footprintSpaceOf(g, start, p);
+  p.yaw_bins = 64;
+  const Planned split = footprintSpaceOf(g, start, p);
+  std::size_t differ_unknown = 0, differ_turn = 0;
+  const auto& a = packed.fs;
+  const auto& b = split.fs;
+  for (std::size_t i = 0; i < a.clear.data().size(); ++i)
+  {
+    differ_unknown += a.clear_occ.data()[i] != a.clear.data()[i];
+    differ_turn += a.clear.data()[i] != a.clear_turn.data()[i];
+    for (int k = 0; k < 32; ++k)
+    {
+      const YawMask bit32 = YawMask(1) << k, bit64 = YawMask(1) << (2 * k);
+      ASSERT_EQ((a.clear_occ.data()[i] & bit32) != 0, (b.clear_occ.data()[i] & bit64) != 0)
+          << "clear_occ, cell " << i << " bin " << k;
+      ASSERT_EQ((a.clear.data()[i] & bit32) != 0, (b.clear.data()[i] & bit64) != 0)
+          << "clear, cell " << i << " bin " << k;
+      if (a.clear_turn.data()[i] & bit32)
+      {
+        ASSERT_TRUE(b.clear_turn.data()[i] & bit64) << "clear_turn, cell " << i << " bin " << k;
+      }
+    }
+  }
+  // Each margin and the unknown leave their mark (else the check is empty).
+  EXPECT_GT(differ_unknown, 100u);
+  EXPECT_GT(differ_turn, 100u);
+  EXPECT_TRUE(reachedAt(packed, -1.5, 0.0));
+  EXPECT_TRUE(reachedAt(split, -1.5, 0.0));
+}

@@ -131,24 +131,12 @@ FootprintSpace computeFootprintSpace(
   for (std::size_t i = 0; i < n; ++i) occ[i] = ground[i] == GroundState::Occupied;
   const std::vector<int> occ_border = borderCells(occ, nx, ny);
   const std::vector<int> unk_border = borderCells(cs.open_unknown, nx, ny);
-  // One pass per border list stamps both margins. Up to 32 bins, both go
-  // into one 64-bit mask per cell (the turn margin's in the upper half).
-  const bool pack = fs.bins <= 32;
-  const YawMask low = pack ? (YawMask(1) << 32) - 1 : ~YawMask(0);
-  const StampRows both = toRows(stamp, &stamp_turn, pack);
-  std::vector<YawMask> blocked_occ(n, 0), blocked_unk(n, 0), blocked_turn(n, 0);
-  stampAt(blocked_occ, pack ? nullptr : &blocked_turn, occ_border, nx, ny, both);
-  stampAt(blocked_unk, pack ? nullptr : &blocked_turn, unk_border, nx, ny, both);
-  if (pack)
-    for (std::size_t i = 0; i < n; ++i)
-    {
-      blocked_turn[i] = (blocked_occ[i] | blocked_unk[i]) >> 32;
-      blocked_occ[i] &= low;
-      blocked_unk[i] &= low;
-    }
-
   const YawMask all = fs.allBins();
-  // Written in place into the grids returned (no copies of 2 MB layers).
+  // Written in place into the grids returned (no copies of 2 MB layers), and
+  // the stamps go into them too: every fresh 2 MB layer costs its page
+  // faults (half the time of this function with ten of them, perf on the
+  // b10 map), so only blocked_occ (needed by the swept path and the escape)
+  // is a layer of its own.
   for (Grid<YawMask>* layer : {&fs.clear_occ, &fs.clear, &fs.clear_turn, &fs.reach, &fs.escape})
     sizeLike(*layer, like, YawMask(0));
   YawMask* clear_occ = &*fs.clear_occ.begin();
@@ -156,12 +144,25 @@ FootprintSpace computeFootprintSpace(
   YawMask* clear_turn = &*fs.clear_turn.begin();
   YawMask* reach = &*fs.reach.begin();
   YawMask* escape = &*fs.escape.begin();
+  // One pass per border list stamps both margins. Up to 32 bins, both go
+  // into one 64-bit mask per cell (the turn margin's in the upper half);
+  // else the turn margin's into clear_turn. The open unknown squares'
+  // blocked bins go into clear first.
+  const bool pack = fs.bins <= 32;
+  const YawMask low = pack ? (YawMask(1) << 32) - 1 : ~YawMask(0);
+  const StampRows both = toRows(stamp, &stamp_turn, pack);
+  std::vector<YawMask> blocked_occ(n, 0);
+  stampAt(blocked_occ.data(), pack ? nullptr : clear_turn, occ_border, nx, ny, both);
+  stampAt(clear, pack ? nullptr : clear_turn, unk_border, nx, ny, both);
   for (std::size_t i = 0; i < n; ++i)
   {
+    const YawMask blocked_turn = pack ? (blocked_occ[i] | clear[i]) >> 32 : clear_turn[i];
+    const YawMask blocked_unk = clear[i] & low;
+    blocked_occ[i] &= low;
     const bool free = ground[i] == GroundState::Free;
     clear_occ[i] = free ? all & ~blocked_occ[i] : 0;
-    clear[i] = clear_occ[i] & ~blocked_unk[i];
-    clear_turn[i] = clear[i] & ~blocked_turn[i];
+    clear[i] = clear_occ[i] & ~blocked_unk;
+    clear_turn[i] = clear[i] & ~blocked_turn;
   }
   // The rectangle moved sideways by footprint_lateral_m either way: a state
   // is clear for translation when it fits at one of the three places (each
@@ -172,14 +173,18 @@ FootprintSpace computeFootprintSpace(
     const double a = 0.5 * fs.length_m, b = 0.5 * fs.width_m;
     const auto left = makeStamp(a, b, fs.margin_m, res, fs.bins, share, span, p.footprint_lateral_m);
     const auto right = makeStamp(a, b, fs.margin_m, res, fs.bins, share, span, -p.footprint_lateral_m);
-    // The occupied squares' layer, then a copy of it that the open unknown
-    // squares are stamped into as well (one pass per border list, as above).
+    // The occupied squares' layer (in reach, zeroed again below), then a
+    // copy of it (in escape) that the open unknown squares are stamped into
+    // as well (one pass per border list, as above).
     const StampRows sides = toRows(left, &right, pack);
-    std::vector<YawMask> occ_l(n, 0), occ_r;
+    YawMask* occ_l = reach;
+    YawMask* any_l = escape;
+    std::vector<YawMask> occ_r, any_r;
     if (!pack) occ_r.assign(n, 0);
-    stampAt(occ_l, pack ? nullptr : &occ_r, occ_border, nx, ny, sides);
-    std::vector<YawMask> any_l = occ_l, any_r = occ_r;
-    stampAt(any_l, pack ? nullptr : &any_r, unk_border, nx, ny, sides);
+    stampAt(occ_l, pack ? nullptr : occ_r.data(), occ_border, nx, ny, sides);
+    std::copy(occ_l, occ_l + n, any_l);
+    any_r = occ_r;
+    stampAt(any_l, pack ? nullptr : any_r.data(), unk_border, nx, ny, sides);
     for (std::size_t i = 0; i < n; ++i)
     {
       if (ground[i] != GroundState::Free) continue;
@@ -188,6 +193,8 @@ FootprintSpace computeFootprintSpace(
       clear_occ[i] |= all & ~(ol & orr);
       clear[i] |= all & ~(al & ar);
     }
+    std::fill(occ_l, occ_l + n, YawMask(0));
+    std::fill(any_l, any_l + n, YawMask(0));
   }
 
   // Where the body has been it can be again: the states of the swept path
@@ -309,7 +316,7 @@ FootprintSpace computeFootprintSpace(
     if (!esc_stamp.empty() && !blocked)
     {
       shrunk.assign(n, 0);
-      stampAt(shrunk, nullptr, occ_border, nx, ny, toRows(esc_stamp, nullptr));
+      stampAt(shrunk.data(), nullptr, occ_border, nx, ny, toRows(esc_stamp, nullptr));
       esc_blocked = &shrunk;
     }
     // Still blocked: the map puts occupied cells under the body itself (a
@@ -334,7 +341,7 @@ FootprintSpace computeFootprintSpace(
             occ_rest[static_cast<std::size_t>(v) * nx + u] = 0;
         }
       shrunk.assign(n, 0);
-      stampAt(shrunk, nullptr, borderCells(occ_rest, nx, ny), nx, ny, toRows(stamp, nullptr));
+      stampAt(shrunk.data(), nullptr, borderCells(occ_rest, nx, ny), nx, ny, toRows(stamp, nullptr));
       esc_blocked = &shrunk;
       fs.escape_margin_m = fs.margin_m;
       fs.escape_ignored_occupied = true;

@@ -143,7 +143,7 @@ StampRows toRows(const std::vector<StampEntry>& first, const std::vector<StampEn
   return out;
 }
 
-void stampAt(std::vector<YawMask>& a, std::vector<YawMask>* b, const std::vector<int>& borders,
+void stampAt(YawMask* a, YawMask* b, const std::vector<int>& borders,
              int nx, int ny, const StampRows& stamp)
 {
   for (const int i : borders)
@@ -158,12 +158,12 @@ void stampAt(std::vector<YawMask>& a, std::vector<YawMask>* b, const std::vector
       const int k0 = std::max(0, -u0), k1 = std::min(len, nx - u0);
       if (k0 >= k1) continue;
       const std::size_t base = static_cast<std::size_t>(v) * nx + u0;
-      YawMask* out_a = a.data() + base;
+      YawMask* out_a = a + base;
       const YawMask* in_a = r.a.data();
       for (int k = k0; k < k1; ++k) out_a[k] |= in_a[k];
       if (b && !r.b.empty())
       {
-        YawMask* out_b = b->data() + base;
+        YawMask* out_b = b + base;
         const YawMask* in_b = r.b.data();
         for (int k = k0; k < k1; ++k) out_b[k] |= in_b[k];
       }

@@ -61,8 +61,9 @@ StampRows toRows(const std::vector<StampEntry>& first, const std::vector<StampEn
                  bool pack = false);
 
 /// ORs the stamp's rows into `a` (and their second masks into `b`, when the
-/// rows hold two) round every cell of `borders`.
-void stampAt(std::vector<YawMask>& a, std::vector<YawMask>* b, const std::vector<int>& borders,
+/// rows hold two and b is not null) round every cell of `borders`; a and b
+/// are row-major nx x ny layers.
+void stampAt(YawMask* a, YawMask* b, const std::vector<int>& borders,
              int nx, int ny, const StampRows& stamp);
 
 /// The bins of `bins` that the stamp blocks at robot cell (cx, cy): those of
