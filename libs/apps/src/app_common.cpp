@@ -1,4 +1,5 @@
 #include <voxplore/apps/app_common.h>
+#include <voxplore/common/memory.h>
 
 #include <signal.h>
 
@@ -36,6 +37,7 @@ void clearInterrupt() { g_interrupted = 0; }
 
 int runGuarded(const std::string& app_name, const std::function<int()>& body)
 {
+  common::keepFreedMemoryForReuse();
   try
   {
     return body();
