@@ -11,7 +11,6 @@
 #include <mrpt/config/CConfigFile.h>
 #include <mrpt/core/bits_math.h>
 #include <octomap/OcTree.h>
-#include <voxplore/common/memory.h>
 #include <voxplore/exploration/Planner.h>
 #include <voxplore/exploration/footprint.h>
 
@@ -185,7 +184,6 @@ BENCHMARK(BM_PathFootprintSharedHeuristic)->Unit(benchmark::kMillisecond);
 
 int main(int argc, char** argv)
 {
-  voxplore::common::keepFreedMemoryForReuse();  // as the apps do (apps::runGuarded)
   voxplore::bench::MapArgs a;
   if (!voxplore::bench::parseMapArgs(argc, argv, "bench_footprint", a)) return 2;
   g_map_path = a.map;

@@ -1,5 +1,4 @@
 #include <voxplore/apps/app_common.h>
-#include <voxplore/common/memory.h>
 
 #include <signal.h>
 
@@ -37,7 +36,6 @@ void clearInterrupt() { g_interrupted = 0; }
 
 int runGuarded(const std::string& app_name, const std::function<int()>& body)
 {
-  common::keepFreedMemoryForReuse();
   try
   {
     return body();
