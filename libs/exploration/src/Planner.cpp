@@ -161,24 +161,7 @@ std::optional<SkipReason> candidatesFor(
   {
     std::optional<Eigen::Vector2d> goal;
     if (r.footprint && p.sampling.view_standoff_m > 0 && !approach)
-    {
-      // A viewing stand-off (SamplingParams::view_standoff_m): the ring of
-      // reachable cells that see the frontier, the one nearest its centre.
-      SamplingParams ring = p.sampling;
-      ring.d_min_sample_m = p.sampling.view_standoff_m;
-      ring.d_max_sample_m = p.sampling.view_standoff_m + 1.0;
-      double best = std::numeric_limits<double>::infinity();
-      for (const Cell& c : sampleSpace(*r.ground, *r.space, *r.frontiers, f, ring))
-      {
-        const Eigen::Vector2d xy = cellCenter(r.space->state, c);
-        const double d = (xy - f.center).squaredNorm();
-        if (d < best)
-        {
-          best = d;
-          goal = xy;
-        }
-      }
-    }
+      goal = standoffGoal(*r.ground, *r.space, *r.frontiers, f, p.sampling);
     if (!goal) goal = nearestReachable(*r.frontiers, f.centroid);
     if (!goal) return SkipReason::NoGoal;
     out.push_back({CPose2D(goal->x(), goal->y(), yawTowards(*goal, f.center)), fi, 1.0});

@@ -8,6 +8,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdlib>
+#include <limits>
 #include <numeric>
 #include <vector>
 
@@ -112,6 +113,7 @@ void SamplingParams::loadFromConfigFile(const mrpt::config::CConfigFileBase& c,
   MRPT_LOAD_CONFIG_VAR(blacklist_radius_m, double, c, s);
   MRPT_LOAD_CONFIG_VAR(view_standoff_m, double, c, s);
   MRPT_LOAD_CONFIG_VAR(sight_blocked_by_unknown, bool, c, s);
+  MRPT_LOAD_CONFIG_VAR(standoff_sight_blocked_by_unknown, bool, c, s);
   MRPT_LOAD_CONFIG_VAR(judge_opening, bool, c, s);
   MRPT_LOAD_CONFIG_VAR(judge_opening_min_unknown_m2, double, c, s);
   MRPT_LOAD_CONFIG_VAR(enclosed_unknown_m2, double, c, s);
@@ -144,6 +146,7 @@ void SamplingParams::saveToConfigFile(mrpt::config::CConfigFileBase& c, const st
   MRPT_SAVE_CONFIG_VAR(blacklist_radius_m, c, s);
   MRPT_SAVE_CONFIG_VAR(view_standoff_m, c, s);
   MRPT_SAVE_CONFIG_VAR(sight_blocked_by_unknown, c, s);
+  MRPT_SAVE_CONFIG_VAR(standoff_sight_blocked_by_unknown, c, s);
   MRPT_SAVE_CONFIG_VAR(judge_opening, c, s);
   MRPT_SAVE_CONFIG_VAR(judge_opening_min_unknown_m2, c, s);
   MRPT_SAVE_CONFIG_VAR(enclosed_unknown_m2, c, s);
@@ -214,6 +217,29 @@ std::vector<Cell> sampleSpace(const GroundGrid& g, const CollisionSpace& cs, con
     }
   }
   return space;
+}
+
+std::optional<Eigen::Vector2d> standoffGoal(const GroundGrid& g, const CollisionSpace& cs,
+                                            const FrontierMap& fm, const Frontier& f,
+                                            const SamplingParams& p)
+{
+  SamplingParams ring = p;
+  ring.d_min_sample_m = p.view_standoff_m;
+  ring.d_max_sample_m = p.view_standoff_m + 1.0;
+  ring.sight_blocked_by_unknown = p.sight_blocked_by_unknown || p.standoff_sight_blocked_by_unknown;
+  std::optional<Eigen::Vector2d> goal;
+  double best = std::numeric_limits<double>::infinity();
+  for (const Cell& c : sampleSpace(g, cs, fm, f, ring))
+  {
+    const Eigen::Vector2d xy = cellCenter(cs.state, c);
+    const double d = (xy - f.center).squaredNorm();
+    if (d < best)
+    {
+      best = d;
+      goal = xy;
+    }
+  }
+  return goal;
 }
 
 std::vector<mrpt::poses::CPose2D> samplePoses(const Grid<SpaceState>& grid,

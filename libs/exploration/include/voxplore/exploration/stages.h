@@ -281,6 +281,13 @@ struct SamplingParams : public mrpt::config::CLoadableOptions
   /// through the wall (b2, omniRob, nearest: three frontiers of a branch
   /// corridor given up that way, 0.75).
   bool sight_blocked_by_unknown = false;
+  /// The same rule for the view stand-off alone (standoffGoal; the sample
+  /// space keeps sight_blocked_by_unknown). The stand-off target is the
+  /// ring cell nearest the frontier's centre, so the first cell whose sight
+  /// slips through a wall wins; where it did, the frontiers were given up
+  /// after two plans (omniRob, nearest, b1-b10: see BENCHMARKS.md,
+  /// seventeenth session).
+  bool standoff_sight_blocked_by_unknown = true;
   /// The tiers (th_f1, th_f2) judge a frontier by the opening it faces
   /// (Frontier::opening_m), not by its reachable cells only: the compact
   /// robot's circle reaches 0.1-0.2 m of a 0.9 m door's frontier, below
@@ -362,6 +369,17 @@ FrontierTour frontierTour(const FrontierMap& fm, const Cell& robot,
 ///        least one frontier cell along a 4-connected Bresenham line not
 ///        blocked by an Occupied cell (thesis fig. 4.15).
 std::vector<Cell> sampleSpace(
+    const GroundGrid& g, const CollisionSpace& cs, const FrontierMap& fm, const Frontier& f,
+    const SamplingParams& p);
+
+/// @brief The nearest strategy's viewing stand-off (footprint model,
+///        SamplingParams::view_standoff_m > 0): of the reachable cells
+///        between view_standoff_m and view_standoff_m + 1 m of the frontier
+///        that see it (sampleSpace, the sight blocked by unknown cells that
+///        are not open unknown when standoff_sight_blocked_by_unknown or
+///        sight_blocked_by_unknown), the one nearest the frontier's centre.
+/// @return none when no cell of that ring sees the frontier
+std::optional<Eigen::Vector2d> standoffGoal(
     const GroundGrid& g, const CollisionSpace& cs, const FrontierMap& fm, const Frontier& f,
     const SamplingParams& p);
 
