@@ -649,6 +649,26 @@ Stages shadowRoom()
   s.fm = findFrontiers(g, s.cs);
   return s;
 }
+
+/// shadowRoom with the wall segment in front of the doorway as walls are
+/// mapped: two faces of occupied cells with staggered gaps round an unseen
+/// interior.
+Stages gappedWallRoom()
+{
+  Stages s = shadowRoom();
+  paint(s.g, 2.5, 6.5, 8.5, 8.65, GroundState::Unknown);
+  for (int k = 0; k < 80; ++k)
+  {
+    const double x = 2.5 + 0.05 * k;
+    if (k % 3 != 0) paint(s.g, x, x + 0.05, 8.5, 8.55, GroundState::Occupied);   // south face
+    if (k % 3 != 1) paint(s.g, x, x + 0.05, 8.6, 8.65, GroundState::Occupied);   // north face
+  }
+  CollisionParams cp;
+  cp.r_coll_m = 0.2;
+  s.cs = computeCollisionSpace(s.g, cp);
+  s.fm = findFrontiers(s.g, s.cs);
+  return s;
+}
 }  // namespace
 
 TEST(Sampling, SampleSpaceSeesTheFrontierAndExcludesCellsBehindTheCorner)
@@ -691,18 +711,7 @@ TEST(Sampling, ASightThroughAMappedWallsGapsIsNoSightWhenUnknownBlocks)
   // "saw" the corridor through such a wall). Through occupied cells only,
   // the 4-connected walk slips through the gaps and cells behind the wall
   // join the sample space; with sight_blocked_by_unknown none does.
-  Stages s = shadowRoom();
-  paint(s.g, 2.5, 6.5, 8.5, 8.65, GroundState::Unknown);
-  for (int k = 0; k < 80; ++k)
-  {
-    const double x = 2.5 + 0.05 * k;
-    if (k % 3 != 0) paint(s.g, x, x + 0.05, 8.5, 8.55, GroundState::Occupied);   // south face
-    if (k % 3 != 1) paint(s.g, x, x + 0.05, 8.6, 8.65, GroundState::Occupied);   // north face
-  }
-  CollisionParams cp;
-  cp.r_coll_m = 0.2;
-  s.cs = computeCollisionSpace(s.g, cp);
-  s.fm = findFrontiers(s.g, s.cs);
+  const Stages s = gappedWallRoom();
   const Frontier* door = nullptr;
   for (const Frontier& f : s.fm.frontiers)
     if (f.center.y() > 9.8) door = &f;
@@ -734,18 +743,7 @@ TEST(Sampling, TheViewStandOffNeverSeesThroughAMappedWallsGaps)
   // omniRob, nearest: the branch corridor's frontiers given up after two
   // plans each, 0.786). By default the stand-off's sight is blocked by the
   // wall's unknown interior, whatever sight_blocked_by_unknown says.
-  Stages s = shadowRoom();
-  paint(s.g, 2.5, 6.5, 8.5, 8.65, GroundState::Unknown);
-  for (int k = 0; k < 80; ++k)
-  {
-    const double x = 2.5 + 0.05 * k;
-    if (k % 3 != 0) paint(s.g, x, x + 0.05, 8.5, 8.55, GroundState::Occupied);
-    if (k % 3 != 1) paint(s.g, x, x + 0.05, 8.6, 8.65, GroundState::Occupied);
-  }
-  CollisionParams cp;
-  cp.r_coll_m = 0.2;
-  s.cs = computeCollisionSpace(s.g, cp);
-  s.fm = findFrontiers(s.g, s.cs);
+  const Stages s = gappedWallRoom();
   const Frontier* door = nullptr;
   for (const Frontier& f : s.fm.frontiers)
     if (f.center.y() > 9.8) door = &f;
