@@ -135,8 +135,10 @@ FootprintSpace computeFootprintSpace(
   // Written in place into the grids returned (no copies of 2 MB layers), and
   // the stamps go into them too: every fresh 2 MB layer costs its page
   // faults (half the time of this function with ten of them, perf on the
-  // b10 map), so only blocked_occ (needed by the swept path and the escape)
-  // is a layer of its own.
+  // b10 map). The bins the occupied squares block at the cell centre
+  // (needed by the swept path and the escape) are kept in the upper half of
+  // clear_occ up to 32 bins (cleared before the reachability), else in a
+  // layer of their own.
   for (Grid<YawMask>* layer : {&fs.clear_occ, &fs.clear, &fs.clear_turn, &fs.reach, &fs.escape})
     sizeLike(*layer, like, YawMask(0));
   YawMask* clear_occ = &*fs.clear_occ.begin();
@@ -146,24 +148,32 @@ FootprintSpace computeFootprintSpace(
   YawMask* escape = &*fs.escape.begin();
   // One pass per border list stamps both margins. Up to 32 bins, both go
   // into one 64-bit mask per cell (the turn margin's in the upper half);
-  // else the turn margin's into clear_turn. The open unknown squares'
-  // blocked bins go into clear first.
+  // else the turn margin's into clear_turn. The occupied squares' blocked
+  // bins go into clear_occ first (or blocked_occ), the open unknown's into
+  // clear.
   const bool pack = fs.bins <= 32;
   const YawMask low = pack ? (YawMask(1) << 32) - 1 : ~YawMask(0);
   const StampRows both = toRows(stamp, &stamp_turn, pack);
-  std::vector<YawMask> blocked_occ(n, 0);
-  stampAt(blocked_occ.data(), pack ? nullptr : clear_turn, occ_border, nx, ny, both);
+  std::vector<YawMask> blocked_occ(pack ? 0 : n, 0);
+  stampAt(pack ? clear_occ : blocked_occ.data(), pack ? nullptr : clear_turn, occ_border, nx, ny,
+          both);
   stampAt(clear, pack ? nullptr : clear_turn, unk_border, nx, ny, both);
   for (std::size_t i = 0; i < n; ++i)
   {
-    const YawMask blocked_turn = pack ? (blocked_occ[i] | clear[i]) >> 32 : clear_turn[i];
+    const YawMask occ_stamped = pack ? clear_occ[i] : blocked_occ[i];
+    const YawMask blocked_turn = pack ? (occ_stamped | clear[i]) >> 32 : clear_turn[i];
     const YawMask blocked_unk = clear[i] & low;
-    blocked_occ[i] &= low;
+    const YawMask blocked = occ_stamped & low;
     const bool free = ground[i] == GroundState::Free;
-    clear_occ[i] = free ? all & ~blocked_occ[i] : 0;
-    clear[i] = clear_occ[i] & ~blocked_unk;
+    const YawMask co = free ? all & ~blocked : 0;
+    clear_occ[i] = pack ? co | (blocked << 32) : co;
+    clear[i] = co & ~blocked_unk;
     clear_turn[i] = clear[i] & ~blocked_turn;
   }
+  /// The bins the occupied squares block at cell i's centre (the margin).
+  const auto blockedOcc = [&](std::size_t i) -> YawMask {
+    return pack ? clear_occ[i] >> 32 : blocked_occ[i];
+  };
   // The rectangle moved sideways by footprint_lateral_m either way: a state
   // is clear for translation when it fits at one of the three places (each
   // tested against both occupied and open unknown cells at that place).
@@ -234,7 +244,7 @@ FootprintSpace computeFootprintSpace(
       {
         const YawMask bin = rest & (~rest + 1);
         const int k = __builtin_ctzll(bin);
-        if ((blocked_occ[i] & bin) && overlaps(fs.binYaw(k)) &&
+        if ((blockedOcc(i) & bin) && overlaps(fs.binYaw(k)) &&
             std::none_of(yaws.begin(), yaws.end(),
                          [&](double y) { return fs.binOf(y) == k && !overlaps(y); }))
           continue;
@@ -301,10 +311,10 @@ FootprintSpace computeFootprintSpace(
     // state and ended the run).
     // The start alone is tested at each margin; the grid is stamped once,
     // at the margin found.
-    const std::vector<YawMask>* esc_blocked = &blocked_occ;
+    const std::vector<YawMask>* esc_blocked = nullptr;  // null: blockedOcc
     std::vector<YawMask> shrunk;
     fs.escape_margin_m = fs.margin_m;
-    bool blocked = (blocked_occ[ri] & own) != 0;
+    bool blocked = (blockedOcc(ri) & own) != 0;
     std::vector<StampEntry> esc_stamp;
     for (int k = 0; blocked && k <= 4; ++k)
     {
@@ -349,7 +359,7 @@ FootprintSpace computeFootprintSpace(
     const std::vector<uint8_t>& esc_occ = occ_rest.empty() ? occ : occ_rest;
     std::vector<YawMask> esc_allowed(n);
     for (std::size_t i = 0; i < n; ++i)
-      esc_allowed[i] = !esc_occ[i] ? all & ~(*esc_blocked)[i] : 0;
+      esc_allowed[i] = !esc_occ[i] ? all & ~(esc_blocked ? (*esc_blocked)[i] : blockedOcc(i)) : 0;
     esc_allowed[ri] |= own;
     escape[ri] = fs.turnClosure(own, esc_allowed[ri]);
     std::deque<int> q{static_cast<int>(ri)};
@@ -371,6 +381,8 @@ FootprintSpace computeFootprintSpace(
     // The escape keeps only what is not clear.
     for (std::size_t i = 0; i < n; ++i) escape[i] &= ~clear[i];
   }
+  if (pack)  // blockedOcc is not needed any more: clear_occ holds its bins alone
+    for (std::size_t i = 0; i < n; ++i) clear_occ[i] &= low;
   flood(fs, reach, clear, clear_turn, queue, nx, ny);
   // Boxed in: the start is clear but not turnable and no turnable state is
   // reached (b14, nbv: the robot stood in a door one bin off the way it came
