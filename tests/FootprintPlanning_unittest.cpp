@@ -723,3 +723,32 @@ TEST(FootprintSpace, MoreThan32BinsGiveTheClearStatesOfTheir32BinHalves)
   EXPECT_TRUE(reachedAt(packed, -1.5, 0.0));
   EXPECT_TRUE(reachedAt(split, -1.5, 0.0));
 }
+
+TEST(FootprintSpace, HalfSquaresNarrowTranslationNotTurning)
+{
+  // footprint_square_share 0.5 gives translation half a cell of a door's
+  // width back; turning in place keeps whole squares
+  // (footprint_turn_square_share 1): with half squares for both, the plans
+  // turned where the guard held the body (b3 omniRob nearest: 0.614).
+  GroundGrid g = twoRoomsWithADoor(0.85);
+  const CPose2D start(1.6, 0.0, 0.0);
+  CollisionParams p = omniRob();
+  const Planned whole = footprintSpaceOf(g, start, p);
+  p.footprint_square_share = 0.5;
+  const Planned half = footprintSpaceOf(g, start, p);
+  std::size_t more_clear = 0;
+  for (std::size_t i = 0; i < half.fs.clear.data().size(); ++i)
+  {
+    more_clear += (half.fs.clear.data()[i] & ~whole.fs.clear.data()[i]) != 0;
+    ASSERT_EQ(half.fs.clear_turn.data()[i] & ~whole.fs.clear_turn.data()[i], YawMask(0))
+        << "cell " << i << ": turnable with half squares only";
+  }
+  EXPECT_GT(more_clear, 0u);
+  // Half squares for turning too, when asked for.
+  p.footprint_turn_square_share = 0.5;
+  const Planned both = footprintSpaceOf(g, start, p);
+  std::size_t more_turnable = 0;
+  for (std::size_t i = 0; i < both.fs.clear_turn.data().size(); ++i)
+    more_turnable += (both.fs.clear_turn.data()[i] & ~whole.fs.clear_turn.data()[i]) != 0;
+  EXPECT_GT(more_turnable, 0u);
+}

@@ -170,6 +170,9 @@ void CollisionParams::loadFromConfigFile(const mrpt::config::CConfigFileBase& c,
   MRPT_LOAD_CONFIG_VAR(footprint_square_share, double, c, s);
   common::requireValid(footprint_square_share >= 0 && footprint_square_share <= 1, c, s,
                        "footprint_square_share", "must be in [0, 1]");
+  MRPT_LOAD_CONFIG_VAR(footprint_turn_square_share, double, c, s);
+  common::requireValid(footprint_turn_square_share >= 0 && footprint_turn_square_share <= 1, c, s,
+                       "footprint_turn_square_share", "must be in [0, 1]");
   MRPT_LOAD_CONFIG_VAR(footprint_bin_span, double, c, s);
   MRPT_LOAD_CONFIG_VAR(footprint_lateral_m, double, c, s);
   common::requireValid(footprint_lateral_m >= 0 && footprint_lateral_m <= 0.2, c, s,
@@ -198,6 +201,7 @@ void CollisionParams::saveToConfigFile(mrpt::config::CConfigFileBase& c, const s
   MRPT_SAVE_CONFIG_VAR(footprint_turn_margin_m, c, s);
   MRPT_SAVE_CONFIG_VAR(yaw_bins, c, s);
   MRPT_SAVE_CONFIG_VAR(footprint_square_share, c, s);
+  MRPT_SAVE_CONFIG_VAR(footprint_turn_square_share, c, s);
   MRPT_SAVE_CONFIG_VAR(footprint_bin_span, c, s);
   MRPT_SAVE_CONFIG_VAR(footprint_lateral_m, c, s);
   MRPT_SAVE_CONFIG_VAR(swept_passage, c, s);

@@ -124,8 +124,8 @@ FootprintSpace computeFootprintSpace(
   const double span = p.footprint_bin_span;
   const auto stamp =
       makeStamp(0.5 * fs.length_m, 0.5 * fs.width_m, fs.margin_m, res, fs.bins, share, span);
-  const auto stamp_turn =
-      makeStamp(0.5 * fs.length_m, 0.5 * fs.width_m, fs.turn_margin_m, res, fs.bins, share);
+  const auto stamp_turn = makeStamp(0.5 * fs.length_m, 0.5 * fs.width_m, fs.turn_margin_m, res,
+                                    fs.bins, p.footprint_turn_square_share);
   std::vector<uint8_t> occ(n);
   const auto& ground = g.state.data();
   for (std::size_t i = 0; i < n; ++i) occ[i] = ground[i] == GroundState::Occupied;

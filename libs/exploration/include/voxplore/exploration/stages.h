@@ -133,6 +133,12 @@ struct CollisionParams : public mrpt::config::CLoadableOptions
   /// surface is assumed in the cell's middle, and the footprint guard's
   /// margin round the sensed points is what keeps the body off it.
   double footprint_square_share = 1.0;
+  /// Footprint: the same for turning in place (clear_turn, with
+  /// footprint_turn_margin_m). Whole cells by default whatever
+  /// footprint_square_share says: with half squares for both, the plans
+  /// turned where the guard held the body (b3 omniRob nearest 0.955 ->
+  /// 0.614, BENCHMARKS.md seventeenth session).
+  double footprint_turn_square_share = 1.0;
   /// Footprint: the share of a bin's yaw width, round its centre, at which a
   /// state must keep footprint_margin_m to be clear for translation (1: every
   /// yaw of the bin; 0: the bin's centre yaw, the yaw a footprint path holds:
