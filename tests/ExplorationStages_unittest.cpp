@@ -669,6 +669,15 @@ Stages gappedWallRoom()
   s.fm = findFrontiers(s.g, s.cs);
   return s;
 }
+
+/// The frontier in shadowRoom's doorway (y = 10), null when there is none.
+const Frontier* doorwayFrontier(const Stages& s)
+{
+  const Frontier* door = nullptr;
+  for (const Frontier& f : s.fm.frontiers)
+    if (f.center.y() > 9.8) door = &f;
+  return door;
+}
 }  // namespace
 
 TEST(Sampling, SampleSpaceSeesTheFrontierAndExcludesCellsBehindTheCorner)
@@ -712,9 +721,7 @@ TEST(Sampling, ASightThroughAMappedWallsGapsIsNoSightWhenUnknownBlocks)
   // the 4-connected walk slips through the gaps and cells behind the wall
   // join the sample space; with sight_blocked_by_unknown none does.
   const Stages s = gappedWallRoom();
-  const Frontier* door = nullptr;
-  for (const Frontier& f : s.fm.frontiers)
-    if (f.center.y() > 9.8) door = &f;
+  const Frontier* door = doorwayFrontier(s);
   ASSERT_NE(door, nullptr);
   auto blind = [&](const std::vector<Cell>& space) {
     int n = 0;
@@ -744,9 +751,7 @@ TEST(Sampling, TheViewStandOffNeverSeesThroughAMappedWallsGaps)
   // plans each, 0.786). By default the stand-off's sight is blocked by the
   // wall's unknown interior, whatever sight_blocked_by_unknown says.
   const Stages s = gappedWallRoom();
-  const Frontier* door = nullptr;
-  for (const Frontier& f : s.fm.frontiers)
-    if (f.center.y() > 9.8) door = &f;
+  const Frontier* door = doorwayFrontier(s);
   ASSERT_NE(door, nullptr);
   const auto behindTheWall = [](const Eigen::Vector2d& xy) {
     return xy.x() > 2.5 && xy.x() < 6.5 && xy.y() < 8.5;
