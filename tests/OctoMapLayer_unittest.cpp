@@ -523,3 +523,61 @@ TEST(OctoMapLayer, ParamsRoundTripAndBadValuesNameTheKey)
     }
   }
 }
+
+// ------------------------------------------------------------ low obstacles
+
+namespace
+{
+/// A 4.5 cm plate (a table's base) in an 8 x 6 m room, scanned by the ring
+/// of 8 noisy cameras from four stops round it.
+OctoMapLayer scanLowPlate(const OctoMapParams& params, bool with_plate)
+{
+  sim::World world = test::boxRoom(8, 6, 2.5, CPose2D(2.2, 3.0, 0));
+  if (with_plate) world.mesh.addBox({4.0f, 3.0f, 0.0225f}, {0.5f, 0.5f, 0.045f});
+  sim::RayCaster caster(world.mesh);
+  sim::DepthCameraRig rig{sim::CameraRigParams{}};
+  std::mt19937_64 rng(7);
+  OctoMapLayer layer(params);
+  for (const CPose2D& p : {CPose2D(2.2, 3.0, 0.0), CPose2D(4.0, 1.2, M_PI / 2),
+                           CPose2D(5.8, 3.0, M_PI), CPose2D(4.0, 4.8, -M_PI / 2)})
+    for (const auto& obs : rig.scan(caster, CPose3D(p), mrpt::Clock::fromDouble(0), rng))
+      layer.insertScan(*obs, CPose3D(p));
+  return layer;
+}
+}  // namespace
+
+TEST(OctoMapLayer, LowObstacleCellsHoldThePlateAndNoFloor)
+{
+  const OctoMapLayer layer = scanLowPlate(OctoMapParams{}, true);
+  // The voxel columns G is projected from (from 10 cm) cannot show a 4.5 cm
+  // plate; the low obstacle cells must.
+  const auto cells = layer.lowObstacles();
+  std::size_t on_plate = 0;
+  for (const auto& c : cells)
+  {
+    const double out_x = std::abs(c.x() - 4.0) - 0.25, out_y = std::abs(c.y() - 3.0) - 0.25;
+    if (out_x < 0 && out_y < 0)
+    {
+      on_plate++;
+      continue;
+    }
+    // Anything else is the plate's rim (its edge within the cell) or a wall
+    // base (the cell whose border the wall's face lies on).
+    const double wall = std::min({c.x(), 8 - c.x(), c.y(), 6 - c.y()});
+    EXPECT_TRUE(std::max(out_x, out_y) < 0.05 || wall < 0.05)
+        << "low obstacle cell (" << c.x() << ", " << c.y() << ") on the open floor";
+  }
+  EXPECT_GE(on_plate, 70u) << "of the plate's 100 cells";  // 100 % measured
+  EXPECT_GT(layer.lowObstacleGrid().cells(), 5000u) << "the floor seen round the plate";
+}
+
+TEST(OctoMapLayer, LowObstaclesOffOrAbsentGiveNone)
+{
+  OctoMapParams off;
+  off.low_obstacle_min_z_m = 0;
+  EXPECT_TRUE(scanLowPlate(off, true).lowObstacles().empty());
+  // Without the plate the floor's noise makes no obstacle off the walls.
+  for (const auto& c : scanLowPlate(OctoMapParams{}, false).lowObstacles())
+    EXPECT_LT(std::min({c.x(), 8 - c.x(), c.y(), 6 - c.y()}), 0.05)
+        << "low obstacle cell (" << c.x() << ", " << c.y() << ") on the open floor";
+}

@@ -36,6 +36,7 @@ PlanInputs someInputs()
   in.step = 7;
   in.blacklist = {{-2.5, 1.5}};
   in.sensed_obstacles = {{0.1234567890123, -0.5}};
+  in.low_obstacles = {{0.425, -0.275}, {-0.025, 0.975}};
   in.approach = {{2.0, 1.0}, {1.0, -1.0}};
   in.swept = {{-2.0, 0.0, 0.0}, {-1.75, 0.05, 0.1}, {-1.5, 0.1, 0.3}};
   in.region = {{-5, -5}, {5, -5}, {5, 5}, {-5, 5}};
@@ -55,6 +56,7 @@ TEST(PlanInputs, RoundTripExactlyWithTheMapsLogOdds)
   EXPECT_EQ(back.step, in.step);
   EXPECT_EQ(back.blacklist, in.blacklist);
   EXPECT_EQ(back.sensed_obstacles, in.sensed_obstacles);
+  EXPECT_EQ(back.low_obstacles, in.low_obstacles);
   EXPECT_EQ(back.approach, in.approach);
   EXPECT_EQ(back.swept, in.swept);
   EXPECT_EQ(back.region, in.region);
@@ -74,9 +76,29 @@ TEST(PlanInputs, TheSameInputsPlanTheSameStepAgain)
   in.approach.clear();
   PlannerParams p;
   p.collision.r_coll_m = 0.4;
+  // Low obstacles (a sill) across a fifth of the door: the run planned with them,
+  // and voxplore-plan must do the same.
+  in.low_obstacles.clear();
+  for (double y = -0.875; y < -0.5; y += 0.05) in.low_obstacles.emplace_back(2.975, y);
+  const auto without = plan(V, in.robot, p, in.blacklist, in.step, in.swept, in.sensed_obstacles,
+                            in.approach);
   const auto direct = plan(V, in.robot, p, in.blacklist, in.step, in.swept, in.sensed_obstacles,
-                           in.approach);
+                           in.approach, in.low_obstacles);
   ASSERT_TRUE(direct.ok()) << direct.message;
+  ASSERT_TRUE(without.ok()) << without.message;
+  ASSERT_NE(direct.waypoints, without.waypoints) << "the sill should change the plan";
+  // The sill's cell beside the jamb stays as V has it (a wall base leaking
+  // into the cell in front of it looks the same); the others are Occupied.
+  const auto stateAt = [&](double x, double y)
+  {
+    Cell c;
+    EXPECT_TRUE(cellOf(direct.ground->state, Eigen::Vector2d(x, y), c));
+    return *direct.ground->state.cellByIndex(c.cx, c.cy);
+  };
+  EXPECT_EQ(stateAt(3.025, -0.925), GroundState::Occupied) << "the jamb";
+  EXPECT_NE(stateAt(2.975, -0.875), GroundState::Occupied);
+  EXPECT_EQ(stateAt(2.975, -0.825), GroundState::Occupied);
+  EXPECT_EQ(stateAt(2.975, -0.525), GroundState::Occupied);
 
   const auto dir = test::tempPath("plan_run");
   std::filesystem::create_directories(dir);

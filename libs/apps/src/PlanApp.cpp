@@ -194,12 +194,12 @@ exploration::PlanResult PlanApp::execute(const PlanOptions& o, std::ostream& out
   if (o.ignore_blacklist) in.blacklist.clear();
   if (o.ignore_sensed) in.sensed_obstacles.clear();
   const auto r = exploration::plan(*V, in.robot, params, in.blacklist, in.step, in.swept,
-                                   in.sensed_obstacles, in.approach);
+                                   in.sensed_obstacles, in.approach, in.low_obstacles);
   out << mrpt::format("step %llu: robot (%.3f, %.3f, %.1f deg), %zu blacklisted, %zu sensed, %zu "
-                      "to approach, %zu swept poses; model %s\n",
+                      "low obstacle cells, %zu to approach, %zu swept poses; model %s\n",
                       static_cast<unsigned long long>(in.step + 1), in.robot.x(), in.robot.y(),
                       mrpt::RAD2DEG(in.robot.phi()), in.blacklist.size(), in.sensed_obstacles.size(),
-                      in.approach.size(), in.swept.size(), r.footprint ? "footprint" : "circle");
+                      in.low_obstacles.size(), in.approach.size(), in.swept.size(), r.footprint ? "footprint" : "circle");
   if (r.rooms)
     out << mrpt::format("rooms: %zu, the robot's %d\n", r.rooms->area_m2.size(),
                         static_cast<int>(r.robot_room));

@@ -264,11 +264,28 @@ PlanResult plan(
     const octomap::OcTree& V, const CPose2D& robot, const PlannerParams& p,
     const std::vector<Eigen::Vector2d>& blacklist, uint64_t step,
     const SweptPath& swept, const std::vector<Eigen::Vector2d>& sensed_obstacles,
-    const std::vector<Eigen::Vector2d>& approach)
+    const std::vector<Eigen::Vector2d>& approach, const std::vector<Eigen::Vector2d>& low_obstacles)
 {
   PlanResult r;
   mrpt::system::CTicTac total, tic;
   auto ground = std::make_shared<GroundGrid>(projectToGround(V, robot, p.projection, swept));
+  std::vector<Cell> low_cells;  // judged on V's columns alone, stamped after the sensed points
+  for (const Eigen::Vector2d& q : low_obstacles)
+  {
+    Cell c;
+    if (!cellOf(ground->state, q, c)) continue;
+    bool beside = false;
+    for (int dy = -1; dy <= 1 && !beside; dy++)
+      for (int dx = -1; dx <= 1 && !beside; dx++)
+      {
+        const int x = c.cx + dx, y = c.cy + dy;
+        beside = (x == ground->robot.cx && y == ground->robot.cy) ||
+                 (x >= 0 && y >= 0 && x < static_cast<int>(ground->state.getSizeX()) &&
+                  y < static_cast<int>(ground->state.getSizeY()) &&
+                  *ground->state.cellByIndex(x, y) == GroundState::Occupied);
+      }
+    if (!beside) low_cells.push_back(c);
+  }
   for (const Eigen::Vector2d& q : sensed_obstacles)
   {
     Cell c;
@@ -276,6 +293,7 @@ PlanResult plan(
       continue;
     *ground->state.cellByIndex(c.cx, c.cy) = GroundState::Occupied;
   }
+  for (const Cell& c : low_cells) *ground->state.cellByIndex(c.cx, c.cy) = GroundState::Occupied;
   r.ms.projection = 1e3 * tic.Tac();
   tic.Tic();
   auto space = std::make_shared<CollisionSpace>(computeCollisionSpace(*ground, p.collision));

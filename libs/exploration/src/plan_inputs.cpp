@@ -19,6 +19,7 @@ void writePlanInputs(const std::string& path, const PlanInputs& in, const octoma
   f << "step " << in.step << "\n";
   for (const auto& p : in.blacklist) f << "bl " << p.x() << " " << p.y() << "\n";
   for (const auto& p : in.sensed_obstacles) f << "so " << p.x() << " " << p.y() << "\n";
+  for (const auto& p : in.low_obstacles) f << "lo " << p.x() << " " << p.y() << "\n";
   for (const auto& p : in.approach) f << "ap " << p.x() << " " << p.y() << "\n";
   for (const auto& q : in.swept) f << "sw " << q.x() << " " << q.y() << " " << q.z() << "\n";
   for (const auto& p : in.region) f << "rg " << p.x() << " " << p.y() << "\n";
@@ -54,11 +55,12 @@ PlanInputs readPlanInputs(const std::string& path, std::unique_ptr<octomap::OcTr
       else
         in.swept.emplace_back(a, b, c);
     }
-    else if (tag == "bl" || tag == "so" || tag == "ap" || tag == "rg")
+    else if (tag == "bl" || tag == "so" || tag == "lo" || tag == "ap" || tag == "rg")
     {
       if (!(ls >> a >> b)) throw bad("expected two numbers after '" + tag + "'");
       (tag == "bl"   ? in.blacklist
        : tag == "so" ? in.sensed_obstacles
+       : tag == "lo" ? in.low_obstacles
        : tag == "ap" ? in.approach
                      : in.region)
           .emplace_back(a, b);
@@ -68,7 +70,7 @@ PlanInputs readPlanInputs(const std::string& path, std::unique_ptr<octomap::OcTr
       if (!(ls >> in.step)) throw bad("expected a step number");
     }
     else
-      throw bad("unknown tag '" + tag + "' (expected robot, step, bl, so, ap, sw or rg)");
+      throw bad("unknown tag '" + tag + "' (expected robot, step, bl, so, lo, ap, sw or rg)");
     std::string rest;
     if (ls >> rest) throw bad("trailing '" + rest + "'");
   }

@@ -83,6 +83,11 @@ void OctoMapParams::loadFromConfigFile(const mrpt::config::CConfigFileBase& c, c
   MRPT_LOAD_CONFIG_VAR(start_box_x_m, double, c, s);
   MRPT_LOAD_CONFIG_VAR(start_box_y_m, double, c, s);
   MRPT_LOAD_CONFIG_VAR(start_box_z_m, double, c, s);
+  MRPT_LOAD_CONFIG_VAR(low_obstacle_min_z_m, double, c, s);
+  MRPT_LOAD_CONFIG_VAR(low_obstacle_max_z_m, double, c, s);
+  MRPT_LOAD_CONFIG_VAR(low_obstacle_floor_z_m, double, c, s);
+  MRPT_LOAD_CONFIG_VAR(low_obstacle_min_hits, int, c, s);
+  MRPT_LOAD_CONFIG_VAR(low_obstacle_min_share, double, c, s);
   using common::requireValid;
   requireValid(l_res_m > 0, c, s, "l_res_m", "must be > 0");
   requireValid(start_value == 128, c, s, "start_value",
@@ -104,6 +109,17 @@ void OctoMapParams::loadFromConfigFile(const mrpt::config::CConfigFileBase& c, c
   requireValid(start_box_x_m >= 0, c, s, "start_box_x_m", "must be >= 0");
   requireValid(start_box_y_m >= 0, c, s, "start_box_y_m", "must be >= 0");
   requireValid(start_box_z_m >= 0, c, s, "start_box_z_m", "must be >= 0");
+  requireValid(low_obstacle_min_z_m >= 0, c, s, "low_obstacle_min_z_m", "must be >= 0 (0 = off)");
+  if (low_obstacle_min_z_m > 0)
+  {
+    requireValid(low_obstacle_max_z_m > low_obstacle_min_z_m, c, s, "low_obstacle_max_z_m",
+                 "need low_obstacle_max_z_m > low_obstacle_min_z_m");
+    requireValid(low_obstacle_floor_z_m <= low_obstacle_min_z_m, c, s, "low_obstacle_floor_z_m",
+                 "need low_obstacle_floor_z_m <= low_obstacle_min_z_m");
+    requireValid(low_obstacle_min_hits >= 1, c, s, "low_obstacle_min_hits", "must be >= 1");
+    requireValid(low_obstacle_min_share > 0 && low_obstacle_min_share <= 1, c, s,
+                 "low_obstacle_min_share", "need 0 < low_obstacle_min_share <= 1");
+  }
 }
 
 void OctoMapParams::saveToConfigFile(mrpt::config::CConfigFileBase& c, const std::string& s) const
@@ -121,11 +137,16 @@ void OctoMapParams::saveToConfigFile(mrpt::config::CConfigFileBase& c, const std
   MRPT_SAVE_CONFIG_VAR(start_box_x_m, c, s);
   MRPT_SAVE_CONFIG_VAR(start_box_y_m, c, s);
   MRPT_SAVE_CONFIG_VAR(start_box_z_m, c, s);
+  MRPT_SAVE_CONFIG_VAR(low_obstacle_min_z_m, c, s);
+  MRPT_SAVE_CONFIG_VAR(low_obstacle_max_z_m, c, s);
+  MRPT_SAVE_CONFIG_VAR(low_obstacle_floor_z_m, c, s);
+  MRPT_SAVE_CONFIG_VAR(low_obstacle_min_hits, c, s);
+  MRPT_SAVE_CONFIG_VAR(low_obstacle_min_share, c, s);
 }
 
 // ------------------------------------------------------------------- the map
 
-OctoMapLayer::OctoMapLayer(const OctoMapParams& params) : params_(params)
+OctoMapLayer::OctoMapLayer(const OctoMapParams& params) : params_(params), low_(params.l_res_m)
 {
   ASSERTMSG_(params_.l_res_m > 0, "OctoMapParams::l_res_m must be > 0");
   ASSERTMSG_(params_.th_free < params_.th_occ, "OctoMapParams: need th_free < th_occ");
@@ -137,6 +158,23 @@ OctoMapLayer::OctoMapLayer(const OctoMapParams& params) : params_(params)
   tree->setClampingThresMin(params_.clamp_min);
   tree->setClampingThresMax(params_.clamp_max);
   tree_ = std::move(tree);
+  if (params_.low_obstacle_min_z_m > 0)
+    low_.setBands(params_.low_obstacle_floor_z_m, params_.low_obstacle_min_z_m,
+                  params_.low_obstacle_max_z_m);
+}
+
+void OctoMapLayer::countLow(const PixelRays& rays)
+{
+  if (params_.low_obstacle_min_z_m <= 0) return;
+  const double r2 = params_.max_range_m * params_.max_range_m;
+  for (const auto& p : rays.endpoints_world)
+    if ((p - rays.origin_world).squaredNorm() <= r2) low_.add(p.x(), p.y(), p.z());
+}
+
+std::vector<Eigen::Vector2d> OctoMapLayer::lowObstacles() const
+{
+  if (params_.low_obstacle_min_z_m <= 0) return {};
+  return low_.obstacles(params_.low_obstacle_min_hits, params_.low_obstacle_min_share);
 }
 
 OctoMapLayer::~OctoMapLayer() = default;
@@ -165,6 +203,7 @@ InsertStats OctoMapLayer::insertScan(const mrpt::obs::CObservation3DRangeScan& o
                                      const mrpt::poses::CPose3D& T_world_robot)
 {
   const PixelRays rays = unprojectRays(obs, T_world_robot);
+  countLow(rays);
   const octomap::point3d origin = toPoint3d(rays.origin_world);
   const double clear_range = clearingRange(params_);
   detail::RayKeyCollector collector(*tree_);
@@ -199,6 +238,7 @@ InsertStats OctoMapLayer::insertScanStock(const mrpt::obs::CObservation3DRangeSc
                                           const mrpt::poses::CPose3D& T_world_robot)
 {
   const PixelRays rays = unprojectRays(obs, T_world_robot);
+  countLow(rays);
   const octomap::point3d origin = toPoint3d(rays.origin_world);
   const double clear_range = clearingRange(params_);
   const octomap::Pointcloud cloud = toPointcloud(rays.endpoints_world);

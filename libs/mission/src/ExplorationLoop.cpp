@@ -190,20 +190,22 @@ void ExplorationLoop::loop()
     if (params_.approach_replanned)
       for (const auto& [c, n] : plans_)
         if (n > 0) approach.push_back(c);
+    const std::vector<Eigen::Vector2d> low = slam_.octomap().lowObstacles();
     if (listener_)
       listener_->onPlanInputs(exploration::PlanInputs{slam_.currentPose(), step, blacklist_,
-                                                      sensed_obstacles_, approach, swept_,
+                                                      sensed_obstacles_, low, approach, swept_,
                                                       planner_.projection.region},
                               slam_.octomap().tree());
     auto plan = exploration::plan(slam_.octomap().tree(), slam_.currentPose(), planner_,
-                                  blacklist_, step, swept_, sensed_obstacles_, approach);
+                                  blacklist_, step, swept_, sensed_obstacles_, approach, low);
     if (!plan.ok() && slam_.octomapRebuildPending() > 0)
     {
       // The OctoMap after a loop closure is still being rebuilt over the
       // stops: the end is decided on the corrected map, not the old one.
       slam_.finishMapRebuild();
       plan = exploration::plan(slam_.octomap().tree(), slam_.currentPose(), planner_, blacklist_,
-                               step, swept_, sensed_obstacles_, approach);
+                               step, swept_, sensed_obstacles_, approach,
+                               slam_.octomap().lowObstacles());
     }
     double cut_off_m2 = 0;  // known floor cut off from the robot, when the planner found nothing
     if (!plan.ok())

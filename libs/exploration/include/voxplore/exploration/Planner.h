@@ -134,11 +134,18 @@ struct PlanResult
 ///        blacklist_radius_m of one of these (planned before, and its view
 ///        did not clear it) is approached instead: the target is its
 ///        nearest reachable cell, as the nearest strategy's
+/// @param low_obstacles cells of V's low obstacles (OctoMapLayer::
+///        lowObstacles(), below the projection's z_min): Occupied in G
+///        unless one of their 8 neighbours is Occupied by V's columns (the
+///        base of that wall or furniture, whose returns leak into the cell in
+///        front of it by range noise: stamping them narrowed doors, omniRob
+///        b3 nearest 0.955 -> 0.679) or is the robot's
 PlanResult plan(
     const octomap::OcTree& V, const mrpt::poses::CPose2D& robot, const PlannerParams& params,
     const std::vector<Eigen::Vector2d>& blacklist = {}, uint64_t step = 0,
     const SweptPath& swept = {}, const std::vector<Eigen::Vector2d>& sensed_obstacles = {},
-    const std::vector<Eigen::Vector2d>& approach = {});
+    const std::vector<Eigen::Vector2d>& approach = {},
+    const std::vector<Eigen::Vector2d>& low_obstacles = {});
 
 /// @brief PNG of G with its layers in the thesis' colours (fig. 4.12): free
 ///        white, occupied black, unknown red, collision grey, maybe-collision

@@ -25,6 +25,9 @@ struct PlanInputs
   uint64_t step = 0;                          ///< the planning step (seeds the sampler)
   std::vector<Eigen::Vector2d> blacklist;     ///< targets given up (map frame) [m]
   std::vector<Eigen::Vector2d> sensed_obstacles;  ///< points the driver sensed in the way [m]
+  /// Cells of the map's low obstacles (OctoMapLayer::lowObstacles()), the
+  /// planner takes them with the sensed points [m].
+  std::vector<Eigen::Vector2d> low_obstacles;
   std::vector<Eigen::Vector2d> approach;      ///< frontiers to approach (nbv) [m]
   SweptPath swept;                            ///< poses the robot's centre swept [m, m, rad]
   /// The exploration region in force (ProjectionParams::region; set from the
@@ -33,7 +36,7 @@ struct PlanInputs
 };
 
 /// @brief Writes `path` (text: one "robot x y yaw" line, "step N", then one
-///        line per point: "bl x y", "so x y", "ap x y", "sw x y yaw", "rg x y"; map
+///        line per point: "bl x y", "so x y", "lo x y", "ap x y", "sw x y yaw", "rg x y"; map
 ///        frame, metres and radians, full precision) and `path`.ot (V as
 ///        OctoMap's full .ot, log-odds kept: map.bt is thresholded and does
 ///        not plan the same).

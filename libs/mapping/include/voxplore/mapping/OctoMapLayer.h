@@ -6,6 +6,8 @@
 #include <mrpt/obs/CObservation3DRangeScan.h>
 #include <mrpt/poses/CPose3D.h>
 
+#include <voxplore/mapping/LowObstacleGrid.h>
+
 #include <Eigen/Core>
 #include <memory>
 #include <string>
@@ -40,6 +42,16 @@ struct OctoMapParams : public mrpt::config::CLoadableOptions
   double start_box_x_m = 2.5;  ///< free box around the start pose: length [m]
   double start_box_y_m = 2.5;  ///< free box: width [m]
   double start_box_z_m = 0.5;  ///< free box: height above the floor [m]
+  /// Low obstacles (LowObstacleGrid, beside the tree): a cell holding at
+  /// least low_obstacle_min_hits measured points with heights in
+  /// [low_obstacle_min_z_m, low_obstacle_max_z_m), that many being at least
+  /// low_obstacle_min_share of its points there or on the floor (below
+  /// low_obstacle_floor_z_m), is an obstacle for the planner. 0 = off [m].
+  double low_obstacle_min_z_m = 0.03;
+  double low_obstacle_max_z_m = 0.10;    ///< [m]; G's voxel columns start at [projection] z_min_m
+  double low_obstacle_floor_z_m = 0.015;  ///< [m]
+  int low_obstacle_min_hits = 3;
+  double low_obstacle_min_share = 0.5;
 
   void loadFromConfigFile(const mrpt::config::CConfigFileBase& c, const std::string& s) override;
   void saveToConfigFile(mrpt::config::CConfigFileBase& c, const std::string& s) const override;
@@ -64,6 +76,8 @@ enum class VoxelState
   Free,     ///< value < th_free
   Occupied  ///< value > th_occ
 };
+
+struct PixelRays;
 
 /// @brief The occupancy map V. Our own ray insertion (insertScan) gathers the
 ///        distinct free and occupied voxel keys of a whole camera image with
@@ -110,6 +124,11 @@ class OctoMapLayer
   /// @brief Centres of all leaf voxels (expanded to l_res) whose value > th_occ.
   std::vector<Eigen::Vector3d> occupiedVoxelCenters() const;
 
+  /// @brief Centres of the cells holding a low obstacle (see
+  ///        OctoMapParams::low_obstacle_min_z_m; empty when off), sorted [m].
+  std::vector<Eigen::Vector2d> lowObstacles() const;
+  const LowObstacleGrid& lowObstacleGrid() const { return low_; }
+
   /// @brief Number of leaf nodes and memory usage of the tree [bytes].
   std::size_t numLeafNodes() const;
   std::size_t memoryUsage() const;
@@ -126,8 +145,11 @@ class OctoMapLayer
   octomap::OcTree& tree();
 
  private:
+  void countLow(const PixelRays& rays);
+
   OctoMapParams params_;
   std::unique_ptr<octomap::OcTree> tree_;
+  LowObstacleGrid low_;
 };
 
 /// @brief Per-pixel ray of a depth image: world-frame camera origin and, for
