@@ -273,7 +273,9 @@ PlanResult plan(
   for (const Eigen::Vector2d& q : low_obstacles)
   {
     Cell c;
-    if (!cellOf(ground->state, q, c)) continue;
+    if (!cellOf(ground->state, q, c) ||
+        *ground->state.cellByIndex(c.cx, c.cy) != GroundState::Free)
+      continue;
     bool beside = false;
     for (int dy = -1; dy <= 1 && !beside; dy++)
       for (int dx = -1; dx <= 1 && !beside; dx++)
