@@ -623,12 +623,13 @@ std::string room(double x0, double y0, double x1, double y1)
 }
 
 apps::ExploreOptions exploreOpts(const std::string& world, const std::string& out, int max_steps,
-                                 double max_sim_time_s)
+                                 double max_sim_time_s, const std::string& extra_ini = "")
 {
   const auto ini = test::tempPath(out + ".ini");
   std::ofstream(ini) << "[explore]\nmax_steps = " << max_steps
                      << "\nmax_sim_time_s = " << max_sim_time_s
-                     << "\nwrite_step_images = false\n";
+                     << "\nwrite_step_images = false\n"
+                     << extra_ini;
   apps::ExploreOptions o;
   o.config = ini;
   o.world = world;
@@ -694,21 +695,32 @@ TEST(Faults, RoomBehindANarrowGapIsUnreachableAndTheRunEnds)
 
 TEST(Faults, UnreachableWaypointBehindALowCurbIsGivenUp)
 {
-  // A 6 cm curb across the room: below the planner's floor band (z_min 0.10 m)
-  // and the navigator's lowest ray (0.10 m), but the footprint cannot cross
-  // it. The drives beyond it fail; the run must still end by itself.
+  // A 6 cm curb across the room: below the planner's voxel columns (z_min
+  // 0.10 m) and the navigator's lowest ray (0.10 m), but the footprint cannot
+  // cross it. Without the low obstacle cells the drives beyond it fail; with
+  // them (the default) the planner never plans across it. Either way the run
+  // must end by itself on this side.
   const std::string elements =
       room(0, 0, 9, 4) + ", {\"type\": \"box\", \"center\": [4.5, 2.0, 0.03], \"size\": [0.2, 4.0, 0.06]}";
   const auto world = writeWorld("curb", elements, 2.0, 2.0);
-  const auto o = exploreOpts(world, "curb", 12, 900);
-  const auto s = apps::ExploreApp{}.execute(o);
-  std::cout << "[ faults ] curb: '" << s.termination_reason << "' after " << s.steps << " steps, "
-            << s.failed_drives << " failed drives, " << s.blacklisted << " blacklisted, "
-            << s.collisions << " refused steps, sim " << s.sim_time_s << " s\n";
-  expectExplicitEnd(s, o, 12, 900);
-  EXPECT_GE(s.failed_drives, 1u);
-  for (const auto& p : common::readTum(o.out_dir + "/trajectory_gt.tum"))
-    EXPECT_LT(p.pose.x(), 4.5);
+  for (const bool low : {false, true})
+  {
+    SCOPED_TRACE(low ? "low obstacles" : "low obstacles off");
+    const std::string name = low ? "curb_low" : "curb";
+    const auto o = exploreOpts(world, name, 12, 900,
+                               low ? "" : "[octomap]\nlow_obstacle_min_z_m = 0\n");
+    const auto s = apps::ExploreApp{}.execute(o);
+    std::cout << "[ faults ] " << name << ": '" << s.termination_reason << "' after " << s.steps
+              << " steps, " << s.failed_drives << " failed drives, " << s.blacklisted
+              << " blacklisted, " << s.collisions << " refused steps, sim " << s.sim_time_s << " s\n";
+    expectExplicitEnd(s, o, 12, 900);
+    if (low)
+      EXPECT_EQ(s.failed_drives, 0u) << "the curb is in the planner's map";
+    else
+      EXPECT_GE(s.failed_drives, 1u);
+    for (const auto& p : common::readTum(o.out_dir + "/trajectory_gt.tum"))
+      EXPECT_LT(p.pose.x(), 4.5);
+  }
 }
 
 TEST(Faults, StepAndSimTimeLimitsAlwaysHold)
