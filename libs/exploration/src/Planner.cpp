@@ -282,8 +282,7 @@ PlanResult plan(
       {
         const int x = c.cx + dx, y = c.cy + dy;
         beside = (x == ground->robot.cx && y == ground->robot.cy) ||
-                 (x >= 0 && y >= 0 && x < static_cast<int>(ground->state.getSizeX()) &&
-                  y < static_cast<int>(ground->state.getSizeY()) &&
+                 (inGrid(ground->state, x, y) &&
                   *ground->state.cellByIndex(x, y) == GroundState::Occupied);
       }
     if (!beside) low_cells.push_back(c);

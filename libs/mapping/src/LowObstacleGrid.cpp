@@ -85,9 +85,4 @@ std::size_t LowObstacleGrid::cells() const
   return n;
 }
 
-std::size_t LowObstacleGrid::memoryUsage() const
-{
-  return sizeof(*this) + tiles_.size() * (sizeof(Tile) + sizeof(std::uint64_t) + 2 * sizeof(void*));
-}
-
 }  // namespace voxplore::mapping

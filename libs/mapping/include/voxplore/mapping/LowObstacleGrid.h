@@ -42,9 +42,8 @@ class LowObstacleGrid
   /// @brief Centres of the low obstacle cells, sorted by (y, x) cell [m].
   std::vector<Eigen::Vector2d> obstacles(int min_hits, double min_share) const;
 
-  /// @brief Cells with any count, and the bytes the grid holds.
+  /// @brief Cells with any count.
   std::size_t cells() const;
-  std::size_t memoryUsage() const;
 
  private:
   struct Counts
