@@ -225,6 +225,33 @@ TEST(Explore, UnknownExploreKeyIsAnErrorNamingFileAndKey)
   }
 }
 
+TEST(Explore, ALowObstacleBandBelowTheProjectionsIsAnErrorNamingBothKeys)
+{
+  const auto dir = fs::path(outDir("low_band"));
+  fs::create_directories(dir);
+  const auto ini = dir / "gap.ini";
+  std::ofstream(ini) << "[projection]\nz_min_m = 0.15\n";
+  auto o = options((dir / "out").string());
+  o.config = ini.string();
+  try
+  {
+    apps::ExploreApp{}.execute(o);
+    FAIL() << "no exception";
+  }
+  catch (const std::runtime_error& e)
+  {
+    const std::string m = e.what();
+    EXPECT_NE(m.find("low_obstacle_max_z_m"), std::string::npos) << m;
+    EXPECT_NE(m.find("z_min_m"), std::string::npos) << m;
+    EXPECT_NE(m.find("gap.ini"), std::string::npos) << m;
+  }
+  // Raised with it, or low obstacles off, the configuration is accepted
+  // (checked by loading only: the run itself is other tests' business).
+  std::ofstream(ini) << "[projection]\nz_min_m = 0.15\n[octomap]\nlow_obstacle_max_z_m = 0.15\n";
+  o.max_steps = 0;
+  EXPECT_NO_THROW(apps::ExploreApp{}.execute(o));
+}
+
 TEST(Explore, FailureMidRunStillWritesTheMapsSoFar)
 {
   const auto out = outDir("failure");

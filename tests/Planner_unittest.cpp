@@ -6,6 +6,7 @@
 #include <mrpt/math/wrap2pi.h>
 #include <voxplore/exploration/Planner.h>
 
+#include <algorithm>
 #include <filesystem>
 #include <fstream>
 
@@ -224,6 +225,50 @@ TEST(Planner, SensedObstaclesTheMapDoesNotHoldCloseTheWay)
   EXPECT_EQ(*r.ground->state.cellByIndex(c.cx, c.cy), GroundState::Occupied);
   EXPECT_NE(*r.ground->state.cellByIndex(r.ground->robot.cx, r.ground->robot.cy),
             GroundState::Occupied);
+}
+
+TEST(Planner, ALowObstacleUnderAnUnseenTableTopIsNoFrontier)
+{
+  // A closed, fully known room but for a table: the 0.5 x 0.5 m of floor
+  // under its top never seen (columns unknown, deeper than
+  // min_open_unknown_depth_m, so open), and round its rim the points of a
+  // 3-5 cm base (OctoMapLayer's low cells, two cells wide).
+  auto V = room(0.0);
+  test::fillBox(V, 0.5, 1.0, 0.5, 1.0, 0.0, 0.6, 0.0f);
+  V.updateInnerOccupancy();
+  std::vector<Eigen::Vector2d> low;
+  for (int i = 0; i < 10; ++i)
+    for (int j = 0; j < 10; ++j)
+      if (std::min({i, j, 9 - i, 9 - j}) < 2) low.emplace_back(0.525 + 0.05 * i, 0.525 + 0.05 * j);
+  const CPose2D robot(-1.5, 0.0, 0.0);
+  auto p = params();
+  const auto bare = plan(V, robot, p);
+  ASSERT_TRUE(bare.ok()) << "the unseen floor under the table is a frontier";
+  EXPECT_NEAR(bare.frontier->center.x(), 0.75, 0.35);
+  EXPECT_NEAR(bare.frontier->center.y(), 0.75, 0.35);
+
+  p.collision.low_obstacles_on_unknown = false;  // eighteenth session: Free cells only
+  EXPECT_TRUE(plan(V, robot, p, {}, 0, {}, {}, {}, low).ok()) << "still a frontier";
+
+  p.collision.low_obstacles_on_unknown = true;
+  const auto r = plan(V, robot, p, {}, 0, {}, {}, {}, low);
+  EXPECT_FALSE(r.ok());
+  EXPECT_EQ(r.done, DoneReason::NoFrontier) << r.message;
+  const auto index = [&](double x, double y)
+  {
+    Cell c;
+    EXPECT_TRUE(cellOf(r.ground->state, Eigen::Vector2d(x, y), c));
+    return static_cast<std::size_t>(c.cy) * r.ground->state.getSizeX() + c.cx;
+  };
+  ASSERT_EQ(r.ground->low_was.size(), r.ground->state.data().size());
+  EXPECT_EQ(r.ground->state.data()[index(0.525, 0.525)], GroundState::Occupied);
+  EXPECT_EQ(r.ground->low_was[index(0.525, 0.525)], 2) << "stamped on an Unknown cell";
+  EXPECT_EQ(r.ground->low_was[index(-1.0, -1.0)], 0);
+  EXPECT_EQ(r.space->open_unknown[index(0.525, 0.525)], 0) << "a stamped cell is closed";
+  // The unknown inside the rim, beside stamped cells, stays open as the
+  // voxel columns have it (an obstacle would close it: its unseen base).
+  EXPECT_EQ(r.ground->state.data()[index(0.625, 0.775)], GroundState::Unknown);
+  EXPECT_EQ(r.space->open_unknown[index(0.625, 0.775)], 1);
 }
 
 TEST(Planner, AReplannedFrontierIsApproachedNotViewedAgain)

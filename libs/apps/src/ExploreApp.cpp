@@ -74,6 +74,17 @@ ExploreConfig loadConfig(const ExploreOptions& opts)
   // r_coll follows the robot footprint unless [collision] r_coll_m is set.
   c.planner.setFootprint(c.sim.robot.length_m, c.sim.robot.width_m);
   c.planner.load(*cfg);
+  // The low obstacle cells stand in for G's voxel columns below their
+  // z_min: a band between the two would be seen by neither.
+  const auto& oc = c.slam.octomap;
+  if (oc.low_obstacle_min_z_m > 0 && oc.low_obstacle_max_z_m < c.planner.projection.z_min_m - 1e-9)
+    throw std::runtime_error(mrpt::format(
+        "%s: [octomap] low_obstacle_max_z_m = %.3f is below [projection] z_min_m = %.3f: "
+        "obstacles between the two heights would be in neither the low obstacle cells nor G's "
+        "voxel columns; set low_obstacle_max_z_m to at least z_min_m (or low_obstacle_min_z_m "
+        "= 0 to switch low obstacles off)",
+        opts.config.empty() ? "built-in defaults" : opts.config.c_str(), oc.low_obstacle_max_z_m,
+        c.planner.projection.z_min_m));
   // The scan rating's virtual cameras are the robot's, unless [scan_rating] places them.
   if (cfg->read_string("scan_rating", "cam0_pose", "").empty())
   {

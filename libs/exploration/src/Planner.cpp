@@ -273,8 +273,10 @@ PlanResult plan(
   for (const Eigen::Vector2d& q : low_obstacles)
   {
     Cell c;
-    if (!cellOf(ground->state, q, c) ||
-        *ground->state.cellByIndex(c.cx, c.cy) != GroundState::Free)
+    if (!cellOf(ground->state, q, c)) continue;
+    const GroundState was = *ground->state.cellByIndex(c.cx, c.cy);
+    if (was != GroundState::Free &&
+        !(was == GroundState::Unknown && p.collision.low_obstacles_on_unknown))
       continue;
     bool beside = false;
     for (int dy = -1; dy <= 1 && !beside; dy++)
@@ -294,7 +296,19 @@ PlanResult plan(
       continue;
     *ground->state.cellByIndex(c.cx, c.cy) = GroundState::Occupied;
   }
-  for (const Cell& c : low_cells) *ground->state.cellByIndex(c.cx, c.cy) = GroundState::Occupied;
+  if (!low_cells.empty())
+  {
+    const std::size_t nx = ground->state.getSizeX();
+    ground->low_was.assign(ground->state.data().size(), 0);
+    for (const Cell& c : low_cells)
+    {
+      GroundState* cell = ground->state.cellByIndex(c.cx, c.cy);
+      if (*cell == GroundState::Occupied) continue;  // a sensed point there
+      ground->low_was[static_cast<std::size_t>(c.cy) * nx + c.cx] =
+          *cell == GroundState::Free ? 1 : 2;
+      *cell = GroundState::Occupied;
+    }
+  }
   r.ms.projection = 1e3 * tic.Tac();
   tic.Tic();
   auto space = std::make_shared<CollisionSpace>(computeCollisionSpace(*ground, p.collision));

@@ -40,15 +40,22 @@ std::vector<uint8_t> openUnknownMask(const GroundGrid& g, bool beside, double de
   const int ny = static_cast<int>(g.state.getSizeY());
   const std::size_t n = static_cast<std::size_t>(nx) * ny;
   const auto& cells = g.state.data();
-  const auto unknown = [&](std::size_t i) { return cells[i] == GroundState::Unknown; };
+  // Judged on the voxel columns' states: a low obstacle cell counts as what
+  // they made of it (GroundGrid::low_was), so that stamping a table base
+  // neither closes the unknown beside it nor splits a pocket; closed itself below.
+  const bool has_low = g.low_was.size() == n;
+  const auto was = [&](std::size_t i) { return has_low ? g.low_was[i] : uint8_t{0}; };
+  const auto unknown = [&](std::size_t i)
+  { return cells[i] == GroundState::Unknown || was(i) == 2; };
   std::vector<uint8_t> open(n, 0);
   for (std::size_t i = 0; i < n; ++i) open[i] = unknown(i) ? 1 : 0;
   if (beside)
   {
     const auto occ = [&](int x, int y)
     {
-      return x >= 0 && y >= 0 && x < nx && y < ny &&
-             cells[static_cast<std::size_t>(y) * nx + x] == GroundState::Occupied;
+      if (x < 0 || y < 0 || x >= nx || y >= ny) return false;
+      const std::size_t i = static_cast<std::size_t>(y) * nx + x;
+      return cells[i] == GroundState::Occupied && was(i) == 0;
     };
     for (int y = 0; y < ny; ++y)
       for (int x = 0; x < nx; ++x)
@@ -58,7 +65,17 @@ std::vector<uint8_t> openUnknownMask(const GroundGrid& g, bool beside, double de
           open[i] = 0;
       }
   }
-  if (depth_cells <= 0 || n == 0) return open;
+  const auto closeLow = [&]
+  {
+    if (has_low)
+      for (std::size_t i = 0; i < n; ++i)
+        if (g.low_was[i]) open[i] = 0;
+  };
+  if (depth_cells <= 0 || n == 0)
+  {
+    closeLow();
+    return open;
+  }
   // Depth of every unknown cell: distance to the nearest known cell.
   std::vector<double> sq(n);
   for (std::size_t i = 0; i < n; ++i) sq[i] = unknown(i) ? common::kEdtFar : 0.0;
@@ -92,6 +109,7 @@ std::vector<uint8_t> openUnknownMask(const GroundGrid& g, bool beside, double de
     if (!thick)
       for (const int i : pocket) open[i] = 0;
   }
+  closeLow();
   return open;
 }
 
@@ -154,6 +172,7 @@ void CollisionParams::loadFromConfigFile(const mrpt::config::CConfigFileBase& c,
   MRPT_LOAD_CONFIG_VAR(r_coll_m, double, c, s);
   MRPT_LOAD_CONFIG_VAR(ignore_unknown_beside_obstacles, bool, c, s);
   MRPT_LOAD_CONFIG_VAR(min_open_unknown_depth_m, double, c, s);
+  MRPT_LOAD_CONFIG_VAR(low_obstacles_on_unknown, bool, c, s);
   common::requireValid(min_open_unknown_depth_m >= 0, c, s, "min_open_unknown_depth_m",
                        "must be >= 0");
   common::requireValid(r_coll_m >= 0, c, s, "r_coll_m", "must be >= 0");
@@ -195,6 +214,7 @@ void CollisionParams::saveToConfigFile(mrpt::config::CConfigFileBase& c, const s
   c.write(s, "r_coll_m", mrpt::format("%.17g", r_coll_m));
   MRPT_SAVE_CONFIG_VAR(ignore_unknown_beside_obstacles, c, s);
   MRPT_SAVE_CONFIG_VAR(min_open_unknown_depth_m, c, s);
+  MRPT_SAVE_CONFIG_VAR(low_obstacles_on_unknown, c, s);
   c.write(s, "model", toString(model));
   MRPT_SAVE_CONFIG_VAR(auto_footprint_above_m, c, s);
   MRPT_SAVE_CONFIG_VAR(footprint_margin_m, c, s);

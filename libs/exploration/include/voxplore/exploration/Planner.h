@@ -140,9 +140,12 @@ struct PlanResult
 ///        V's columns (the base of that wall or furniture, whose returns leak
 ///        into the cell in front of it by range noise: stamping them
 ///        narrowed doors, omniRob b3 nearest 0.955 -> 0.679) or is the
-///        robot's. Unknown cells stay Unknown: stamped, they took frontiers
-///        away (b4 omniRob nbv 0.968 -> 0.906, a room behind a 0.8 m
-///        opening given up).
+///        robot's. Unknown cells too with [collision]
+///        low_obstacles_on_unknown (a table base under its top, never seen
+///        from above: otherwise a frontier no view clears); which unknown is
+///        open is judged as if none had been stamped (GroundGrid::low_was):
+///        stamps closing the unknown beside them took frontiers away (b4
+///        omniRob nbv 0.968 -> 0.906, a room behind a 0.8 m opening).
 PlanResult plan(
     const octomap::OcTree& V, const mrpt::poses::CPose2D& robot, const PlannerParams& params,
     const std::vector<Eigen::Vector2d>& blacklist = {}, uint64_t step = 0,

@@ -62,6 +62,12 @@ struct GroundGrid
 {
   Grid<GroundState> state;
   Cell robot;
+  /// Cells plan() stamped Occupied as low obstacles (OctoMapLayer's low
+  /// cells), one byte per cell of `state` holding what the voxel columns
+  /// made of it: 0 = not stamped, 1 = Free, 2 = Unknown. Empty: none.
+  /// Which unknown is open (frontiers, MaybeCollision) is judged as if they
+  /// had not been stamped, and they themselves are closed.
+  std::vector<uint8_t> low_was;
 };
 
 /// @brief Algorithm 2: flood fill from the robot's column over voxel columns
@@ -90,6 +96,12 @@ struct CollisionParams : public mrpt::config::CLoadableOptions
   /// unseen backs of furniture. Closed unknown makes no MaybeCollision and no
   /// frontier. 0 = every unknown cell is open (thesis) [m].
   double min_open_unknown_depth_m = 0.10;
+  /// plan(): low obstacle cells (OctoMapLayer) are stamped Occupied where
+  /// the voxel columns left them Unknown too, not only Free: a table base
+  /// under its top (the columns never seen) is an obstacle, not a frontier
+  /// (turtlebot3_house, the compact robot's footprint: the run did not end).
+  /// The unknown round them stays open as the columns have it.
+  bool low_obstacles_on_unknown = true;
   /// The robot model the planner plans for (ini key "model"): Circle is the
   /// thesis (4.5.2: a disc of r_coll_m, so no passage narrower than about
   /// 2 r_coll); Footprint plans in (x, y, yaw) with the rectangle (footprint.h);
