@@ -205,51 +205,53 @@ TEST(Explore, BadStrategyIsAnErrorNamingTheKey)
   EXPECT_NE(err.find("--strategy"), std::string::npos) << err;
 }
 
-TEST(Explore, UnknownExploreKeyIsAnErrorNamingFileAndKey)
+namespace
 {
-  const auto dir = fs::path(outDir("bad_key"));
+/// voxplore-explore on dlr_test_room with `ini_text` as the config file
+/// `file_name` (in a directory of its own named `name`): the error it
+/// stopped with, "" when it ran (`max_steps` 0: the first scan only).
+std::string exploreError(const std::string& name, const std::string& file_name,
+                         const std::string& ini_text)
+{
+  const auto dir = fs::path(outDir(name));
   fs::create_directories(dir);
-  const auto ini = dir / "bad.ini";
-  std::ofstream(ini) << "[explore]\nmax_stepz = 3\n";
+  const auto ini = dir / file_name;
+  std::ofstream(ini) << ini_text;
   auto o = options((dir / "out").string());
   o.config = ini.string();
+  o.max_steps = 0;
   try
   {
     apps::ExploreApp{}.execute(o);
-    FAIL() << "no exception";
   }
   catch (const std::runtime_error& e)
   {
-    EXPECT_NE(std::string(e.what()).find("max_stepz"), std::string::npos) << e.what();
-    EXPECT_NE(std::string(e.what()).find("bad.ini"), std::string::npos) << e.what();
+    return e.what();
   }
+  return {};
+}
+}  // namespace
+
+TEST(Explore, UnknownExploreKeyIsAnErrorNamingFileAndKey)
+{
+  const std::string m = exploreError("bad_key", "bad.ini", "[explore]\nmax_stepz = 3\n");
+  EXPECT_NE(m.find("max_stepz"), std::string::npos) << m;
+  EXPECT_NE(m.find("bad.ini"), std::string::npos) << m;
 }
 
 TEST(Explore, ALowObstacleBandBelowTheProjectionsIsAnErrorNamingBothKeys)
 {
-  const auto dir = fs::path(outDir("low_band"));
-  fs::create_directories(dir);
-  const auto ini = dir / "gap.ini";
-  std::ofstream(ini) << "[projection]\nz_min_m = 0.15\n";
-  auto o = options((dir / "out").string());
-  o.config = ini.string();
-  try
-  {
-    apps::ExploreApp{}.execute(o);
-    FAIL() << "no exception";
-  }
-  catch (const std::runtime_error& e)
-  {
-    const std::string m = e.what();
-    EXPECT_NE(m.find("low_obstacle_max_z_m"), std::string::npos) << m;
-    EXPECT_NE(m.find("z_min_m"), std::string::npos) << m;
-    EXPECT_NE(m.find("gap.ini"), std::string::npos) << m;
-  }
-  // Raised with it, or low obstacles off, the configuration is accepted
-  // (checked by loading only: the run itself is other tests' business).
-  std::ofstream(ini) << "[projection]\nz_min_m = 0.15\n[octomap]\nlow_obstacle_max_z_m = 0.15\n";
-  o.max_steps = 0;
-  EXPECT_NO_THROW(apps::ExploreApp{}.execute(o));
+  const std::string m = exploreError("low_band", "gap.ini", "[projection]\nz_min_m = 0.15\n");
+  EXPECT_NE(m.find("low_obstacle_max_z_m"), std::string::npos) << m;
+  EXPECT_NE(m.find("z_min_m"), std::string::npos) << m;
+  EXPECT_NE(m.find("gap.ini"), std::string::npos) << m;
+  // Raised with it, or low obstacles off, the configuration is accepted.
+  EXPECT_EQ(exploreError("low_band_raised", "raised.ini",
+                         "[projection]\nz_min_m = 0.15\n[octomap]\nlow_obstacle_max_z_m = 0.15\n"),
+            "");
+  EXPECT_EQ(exploreError("low_band_off", "off.ini",
+                         "[projection]\nz_min_m = 0.15\n[octomap]\nlow_obstacle_min_z_m = 0\n"),
+            "");
 }
 
 TEST(Explore, FailureMidRunStillWritesTheMapsSoFar)
