@@ -752,3 +752,83 @@ TEST(FootprintSpace, HalfSquaresNarrowTranslationNotTurning)
     more_turnable += (both.fs.clear_turn.data()[i] & ~whole.fs.clear_turn.data()[i]) != 0;
   EXPECT_GT(more_turnable, 0u);
 }
+
+namespace
+{
+/// The compact robot (0.50 x 0.36 m) with the footprint model at the defaults.
+CollisionParams compactFootprint()
+{
+  CollisionParams p;
+  p.model = CollisionParams::Model::Footprint;
+  p.footprint_length_m = 0.50;
+  p.footprint_width_m = 0.36;
+  p.r_coll_m = 0.308;
+  return p;
+}
+
+/// Every `stride`-th cell (in x and y) that the reach holds in a clear bin
+/// (what the planner offers as a goal) gets a path from the robot; the cells
+/// that do not, at most `report` of them, as "(x, y)" in `missing`.
+std::size_t goalsWithoutPath(const Planned& pl, const CPose2D& robot, int stride,
+                             std::size_t& goals, std::string& missing, std::size_t report = 5)
+{
+  const std::vector<float> from_start = footprintCostFromStart(pl.cs, pl.fs, PathParams{});
+  const int nx = static_cast<int>(pl.fs.reach.getSizeX()), ny = static_cast<int>(pl.fs.reach.getSizeY());
+  std::size_t failed = 0;
+  goals = 0;
+  for (int cy = 0; cy < ny; cy += stride)
+    for (int cx = 0; cx < nx; cx += stride)
+    {
+      const std::size_t i = static_cast<std::size_t>(cy) * nx + cx;
+      if (!(pl.fs.reach.data()[i] & pl.fs.clear.data()[i])) continue;
+      ++goals;
+      const Eigen::Vector2d goal = cellCenter(pl.fs.reach, Cell{cx, cy});
+      if (planFootprintPath(pl.cs, pl.fs, robot, goal, 0.0, PathParams{}, &from_start)) continue;
+      if (++failed <= report)
+        missing += " (" + std::to_string(goal.x()) + ", " + std::to_string(goal.y()) + ")";
+    }
+  return failed;
+}
+}  // namespace
+
+TEST(FootprintSpace, ThePathSearchFollowsEveryStateTheReachHolds)
+{
+  // b3, compact robot, footprint model, nearest (a real map): the robot
+  // stood pinched between furniture at yaw -41 deg, its own bin blocked.
+  // The escape turned in place through two bins clear of occupied cells only
+  // into clear bins that were not turnable, and went on from there; the
+  // reach held most of the building. The search turns at a cell only between
+  // clear_turn or escape bins, and the escape had dropped its clear ones:
+  // each of 58 goals the reach held was searched for in vain (1.9 s each),
+  // 'all frontiers skipped' at coverage 0.45. Whatever the reach holds in a
+  // clear bin, the search must find.
+  GroundFixture f = loadGroundFixture(voxplore::test::sourceDir() +
+                                      "/tests/data/footprint_b3_pinched_turn.txt");
+  const Planned pl = footprintSpaceOf(f.g, f.robot, compactFootprint(), f.swept);
+  // The precondition: the start was not clear in its own bin.
+  const std::size_t ri = static_cast<std::size_t>(pl.fs.robot.cy) * f.g.state.getSizeX() + pl.fs.robot.cx;
+  ASSERT_FALSE(pl.fs.clear.data()[ri] & (YawMask(1) << pl.fs.robot_bin));
+  std::size_t goals = 0;
+  std::string missing;
+  EXPECT_EQ(goalsWithoutPath(pl, f.robot, 4, goals, missing), 0u) << "of " << goals << ":" << missing;
+  EXPECT_GT(goals, 300u);
+
+  // The same on the other real map (the omniRob reversed into a door, its
+  // start in open unknown's margin) and on the door tests' rooms, from
+  // starts that need an escape (within the margin of a wall, across the
+  // door) and from one that does not.
+  GroundFixture b11 = loadGroundFixture(voxplore::test::sourceDir() +
+                                        "/tests/data/footprint_b11_reversed_into_door.txt");
+  const Planned pl11 = footprintSpaceOf(b11.g, b11.robot, omniRobWholeBin(), b11.swept);
+  EXPECT_EQ(goalsWithoutPath(pl11, b11.robot, 3, goals, missing), 0u) << "b11, of " << goals << ":" << missing;
+  EXPECT_GT(goals, 100u);
+  for (const CPose2D& start : {CPose2D(-1.5, 0.3, M_PI / 2), CPose2D(-0.45, 0.0, 0.3),
+                               CPose2D(-2.6, 1.1, 0.0), CPose2D(1.0, -1.05, M_PI / 2)})
+  {
+    GroundGrid g = twoRoomsWithADoor(0.90);
+    const Planned rooms = footprintSpaceOf(g, start, omniRob());
+    EXPECT_EQ(goalsWithoutPath(rooms, start, 2, goals, missing), 0u)
+        << "rooms from (" << start.x() << ", " << start.y() << ", " << start.phi() << "), of "
+        << goals << ":" << missing;
+  }
+}

@@ -46,8 +46,10 @@ struct FootprintSpace
   /// cameras leave unknown round the body at first).
   Grid<YawMask> reach;
   /// The escape: states the start reaches through states clear of occupied
-  /// cells by escape_margin_m, before the first clear state (what
-  /// planFootprintPath may enter besides `clear`).
+  /// cells by escape_margin_m, up to the first turnable state, and the clear
+  /// ones among them (what planFootprintPath may enter besides `clear`, and
+  /// turn between besides `clear_turn`: the search follows every state the
+  /// reach holds).
   Grid<YawMask> escape;
   /// The margin the escape keeps from occupied cells [m]: margin_m, or less
   /// (down to -2 cells) when the start state is within margin_m of one.
