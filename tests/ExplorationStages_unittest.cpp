@@ -96,6 +96,40 @@ bool seesContinuous(const GroundGrid& g, const Cell& a, const Cell& b)
 
 // ------------------------------------------------------------------ projection
 
+TEST(Grid, MovesItsCellsWithoutCopyingThem)
+{
+  // MRPT's CDynamicGrid has no move operations (its virtual destructor
+  // suppresses them): a move copied every cell. Grid moves the cells' buffer.
+  Grid<uint64_t> a(-1.0, 2.0, -0.5, 1.5, 0.05);
+  ASSERT_EQ(a.getSizeX(), 60u);
+  ASSERT_EQ(a.getSizeY(), 40u);
+  *a.cellByIndex(7, 3) = 42;
+  const uint64_t* cells = a.data().data();
+  Grid<uint64_t> b(std::move(a));
+  EXPECT_EQ(b.data().data(), cells);
+  EXPECT_EQ(b.getSizeX(), 60u);
+  EXPECT_EQ(b.getSizeY(), 40u);
+  EXPECT_DOUBLE_EQ(b.getXMin(), -1.0);
+  EXPECT_DOUBLE_EQ(b.getYMax(), 1.5);
+  EXPECT_DOUBLE_EQ(b.getResolution(), 0.05);
+  EXPECT_EQ(*b.cellByIndex(7, 3), 42u);
+  // The moved-from grid is empty, not a grid whose cells are gone.
+  EXPECT_EQ(a.getSizeX(), 0u);
+  EXPECT_TRUE(a.data().empty());
+  EXPECT_EQ(a.cellByPos(0.0, 0.0), nullptr);
+  // Move assignment, and a struct holding grids (the stages' results).
+  GroundGrid g;
+  g.state = Grid<GroundState>(0.0, 1.0, 0.0, 1.0, 0.1);
+  const GroundState* states = g.state.data().data();
+  const GroundGrid h = std::move(g);
+  EXPECT_EQ(h.state.data().data(), states);
+  EXPECT_EQ(h.state.getSizeX(), 10u);
+  // Copies stay copies.
+  const Grid<uint64_t> c = b;
+  EXPECT_NE(c.data().data(), b.data().data());
+  EXPECT_EQ(*c.cellByIndex(7, 3), 42u);
+}
+
 TEST(Projection, ColumnStatesFromTheVoxelsInTheBandOnly)
 {
   octomap::OcTree t(kRes);

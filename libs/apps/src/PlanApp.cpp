@@ -9,9 +9,12 @@
 
 #include <voxplore/exploration/footprint.h>
 
+#include <algorithm>
 #include <cstdio>
 #include <iostream>
 #include <memory>
+#include <utility>
+#include <vector>
 
 namespace voxplore::apps
 {
@@ -117,6 +120,34 @@ void printProbe(const exploration::PlanResult& r, const std::array<double, 3>& p
         << ", reach " << bits(fs->reach) << "\n";
   }
 }
+
+/// The stages' times over `n` plans (r's and n - 1 more from `again`):
+/// median and minimum of each [ms].
+template <typename Again>
+void printRepeatedTimes(const exploration::PlanResult& r, int n, std::ostream& out, Again again)
+{
+  std::vector<exploration::PlanTimings> t{r.ms};
+  for (int k = 1; k < n; ++k) t.push_back(again());
+  const std::pair<const char*, double exploration::PlanTimings::*> stages[] = {
+      {"projection", &exploration::PlanTimings::projection},
+      {"collision", &exploration::PlanTimings::collision},
+      {"frontiers", &exploration::PlanTimings::frontiers},
+      {"rooms", &exploration::PlanTimings::rooms},
+      {"tour", &exploration::PlanTimings::tour},
+      {"sampling", &exploration::PlanTimings::sampling},
+      {"rating", &exploration::PlanTimings::rating},
+      {"path", &exploration::PlanTimings::path},
+      {"total", &exploration::PlanTimings::total}};
+  out << "ms over " << n << " plans (median / min):";
+  for (const auto& [name, field] : stages)
+  {
+    std::vector<double> v;
+    for (const auto& x : t) v.push_back(x.*field);
+    std::sort(v.begin(), v.end());
+    out << mrpt::format(" %s %.1f / %.1f%s", name, v[v.size() / 2], v.front(),
+                        field == &exploration::PlanTimings::total ? "\n" : ",");
+  }
+}
 }  // namespace
 
 int PlanApp::run(int argc, const char* const* argv)
@@ -141,6 +172,10 @@ int PlanApp::run(int argc, const char* const* argv)
         false, "X,Y[,YAW]", cmd);
     TCLAP::ValueArg<int> probe_r("", "probe-radius", "Cells each side of a probe (default 12)",
                                  false, 12, "N", cmd);
+    TCLAP::ValueArg<int> repeat("", "repeat",
+                                "Plan the step N times in one process and print each stage's "
+                                "median and minimum time (default 1)",
+                                false, 1, "N", cmd);
     if (!cmd.parse(argc, const_cast<const char**>(argv)))
       return exitCodeAfterFailedParse(argc, argv);
     PlanOptions o;
@@ -152,6 +187,8 @@ int PlanApp::run(int argc, const char* const* argv)
     o.ignore_sensed = no_so.getValue();
     if (o.scale < 1) throw std::runtime_error("--scale must be >= 1");
     o.probe_radius = probe_r.getValue();
+    o.repeat = repeat.getValue();
+    if (o.repeat < 1 || o.repeat > 1000) throw std::runtime_error("--repeat must be in 1..1000");
     if (o.probe_radius < 1 || o.probe_radius > 200)
       throw std::runtime_error("--probe-radius must be in 1..200");
     for (const auto& p : probe.getValue())
@@ -232,6 +269,10 @@ exploration::PlanResult PlanApp::execute(const PlanOptions& o, std::ostream& out
                       "sampling %.1f, rating %.1f, path %.1f, total %.1f\n",
                       r.ms.projection, r.ms.collision, r.ms.frontiers, r.ms.rooms, r.ms.tour,
                       r.ms.sampling, r.ms.rating, r.ms.path, r.ms.total);
+  if (o.repeat > 1) printRepeatedTimes(r, o.repeat, out, [&]() {
+      return exploration::plan(*V, in.robot, params, in.blacklist, in.step, in.swept,
+                               in.sensed_obstacles, in.approach, in.low_obstacles).ms;
+    });
   for (const auto& p : o.probes) printProbe(r, p, o.probe_radius, out);
   if (!o.png.empty()) exploration::renderPlan(r, in.robot, o.png, {}, o.scale);
   return r;

@@ -269,46 +269,7 @@ PlanResult plan(
   PlanResult r;
   mrpt::system::CTicTac total, tic;
   auto ground = std::make_shared<GroundGrid>(projectToGround(V, robot, p.projection, swept));
-  std::vector<Cell> low_cells;  // judged on V's columns alone, stamped after the sensed points
-  for (const Eigen::Vector2d& q : low_obstacles)
-  {
-    Cell c;
-    if (!cellOf(ground->state, q, c)) continue;
-    const GroundState was = *ground->state.cellByIndex(c.cx, c.cy);
-    if (was != GroundState::Free &&
-        !(was == GroundState::Unknown && p.collision.low_obstacles_on_unknown))
-      continue;
-    bool beside = false;
-    for (int dy = -1; dy <= 1 && !beside; dy++)
-      for (int dx = -1; dx <= 1 && !beside; dx++)
-      {
-        const int x = c.cx + dx, y = c.cy + dy;
-        beside = (x == ground->robot.cx && y == ground->robot.cy) ||
-                 (inGrid(ground->state, x, y) &&
-                  *ground->state.cellByIndex(x, y) == GroundState::Occupied);
-      }
-    if (!beside) low_cells.push_back(c);
-  }
-  for (const Eigen::Vector2d& q : sensed_obstacles)
-  {
-    Cell c;
-    if (!cellOf(ground->state, q, c) || (c.cx == ground->robot.cx && c.cy == ground->robot.cy))
-      continue;
-    *ground->state.cellByIndex(c.cx, c.cy) = GroundState::Occupied;
-  }
-  if (!low_cells.empty())
-  {
-    const std::size_t nx = ground->state.getSizeX();
-    ground->low_was.assign(ground->state.data().size(), 0);
-    for (const Cell& c : low_cells)
-    {
-      GroundState* cell = ground->state.cellByIndex(c.cx, c.cy);
-      if (*cell == GroundState::Occupied) continue;  // a sensed point there
-      ground->low_was[static_cast<std::size_t>(c.cy) * nx + c.cx] =
-          *cell == GroundState::Free ? 1 : 2;
-      *cell = GroundState::Occupied;
-    }
-  }
+  stampObstacles(*ground, sensed_obstacles, low_obstacles, p.collision.low_obstacles_on_unknown);
   r.ms.projection = 1e3 * tic.Tac();
   tic.Tic();
   auto space = std::make_shared<CollisionSpace>(computeCollisionSpace(*ground, p.collision));

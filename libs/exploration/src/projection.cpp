@@ -362,4 +362,44 @@ GroundGrid projectToGround(const octomap::OcTree& V, const mrpt::poses::CPose2D&
   return G;
 }
 
+void stampObstacles(GroundGrid& g, const std::vector<Eigen::Vector2d>& sensed,
+                    const std::vector<Eigen::Vector2d>& low, bool low_on_unknown)
+{
+  std::vector<Cell> low_cells;  // judged on V's columns alone, stamped after the sensed points
+  for (const Eigen::Vector2d& q : low)
+  {
+    Cell c;
+    if (!cellOf(g.state, q, c)) continue;
+    const GroundState was = *g.state.cellByIndex(c.cx, c.cy);
+    if (was != GroundState::Free && !(was == GroundState::Unknown && low_on_unknown)) continue;
+    bool beside = false;
+    for (int dy = -1; dy <= 1 && !beside; dy++)
+      for (int dx = -1; dx <= 1 && !beside; dx++)
+      {
+        const int x = c.cx + dx, y = c.cy + dy;
+        beside = (x == g.robot.cx && y == g.robot.cy) ||
+                 (inGrid(g.state, x, y) && *g.state.cellByIndex(x, y) == GroundState::Occupied);
+      }
+    if (!beside) low_cells.push_back(c);
+  }
+  for (const Eigen::Vector2d& q : sensed)
+  {
+    Cell c;
+    if (!cellOf(g.state, q, c) || (c.cx == g.robot.cx && c.cy == g.robot.cy)) continue;
+    *g.state.cellByIndex(c.cx, c.cy) = GroundState::Occupied;
+  }
+  if (!low_cells.empty())
+  {
+    const std::size_t nx = g.state.getSizeX();
+    g.low_was.assign(g.state.data().size(), 0);
+    for (const Cell& c : low_cells)
+    {
+      GroundState* cell = g.state.cellByIndex(c.cx, c.cy);
+      if (*cell == GroundState::Occupied) continue;  // a sensed point there
+      g.low_was[static_cast<std::size_t>(c.cy) * nx + c.cx] = *cell == GroundState::Free ? 1 : 2;
+      *cell = GroundState::Occupied;
+    }
+  }
+}
+
 }  // namespace voxplore::exploration

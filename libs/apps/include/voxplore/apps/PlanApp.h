@@ -25,6 +25,11 @@ struct PlanOptions
   /// reached (why the robot does or does not get through a door).
   std::vector<std::array<double, 3>> probes;
   int probe_radius = 12;  ///< cells each side of a probe
+  /// Plan the step this many times in one process and print each stage's
+  /// median and minimum [ms] (the first plan is the one reported; the
+  /// explorer plans in a warm process, a single run pays the first touch of
+  /// every grid).
+  int repeat = 1;
 };
 
 /// @brief voxplore-plan: reads a planning step's inputs and the planner's

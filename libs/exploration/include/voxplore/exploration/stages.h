@@ -82,6 +82,17 @@ GroundGrid projectToGround(
     const octomap::OcTree& V, const mrpt::poses::CPose2D& robot, const ProjectionParams& p,
     const SweptPath& swept = {});
 
+/// @brief Obstacles the voxel columns do not show, stamped Occupied into G
+///        (map frame points; none on the robot's cell). `sensed` (points the
+///        driver's sensors held the robot for): wherever they fall. `low`
+///        (OctoMapLayer's low obstacle cells, below the projection's band):
+///        where G holds Free, or Unknown too with `low_on_unknown`, unless the
+///        robot's cell or a cell the columns made Occupied is among their 8
+///        neighbours (a wall's own foot); each records what it was in
+///        g.low_was (left empty when there are none).
+void stampObstacles(GroundGrid& g, const std::vector<Eigen::Vector2d>& sensed,
+                    const std::vector<Eigen::Vector2d>& low, bool low_on_unknown);
+
 // ------------------------------------------------------------ 2. collision space
 /// @brief ini section [collision].
 struct CollisionParams : public mrpt::config::CLoadableOptions
