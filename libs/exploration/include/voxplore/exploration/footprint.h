@@ -48,8 +48,8 @@ struct FootprintSpace
   /// The escape: states the start reaches through states clear of occupied
   /// cells by escape_margin_m, up to the first turnable state, and the clear
   /// ones among them (what planFootprintPath may enter besides `clear`, and
-  /// turn between besides `clear_turn`: the search follows every state the
-  /// reach holds).
+  /// turn between besides `clear_turn` when it finds no path otherwise: the
+  /// search follows every state the reach holds).
   Grid<YawMask> escape;
   /// The margin the escape keeps from occupied cells [m]: margin_m, or less
   /// (down to -2 cells) when the start state is within margin_m of one.
@@ -111,7 +111,9 @@ void applyFootprint(CollisionSpace& cs, const FootprintSpace& fs);
 
 /// @brief A* over (cell, yaw bin) from `start` to any bin at `goal`'s cell
 ///        through states FootprintSpace::allowed, turning only between
-///        FootprintSpace::turnable bins: translations cost their length times
+///        clear_turn bins and escape bins that are not clear (and, when that
+///        finds no path, between any FootprintSpace::turnable bins, as the
+///        escape did): translations cost their length times
 ///        PathParams' clearance factor (doubled outside clear_turn), a turn by
 ///        one bin costs its arc at half the circumradius. Runs of one bin are shortcut by line
 ///        of sight (every sample's cell allows the bin) and cut into
