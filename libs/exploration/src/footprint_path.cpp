@@ -87,8 +87,8 @@ struct SE2Search
   bool allowed(std::size_t cell, int bin) const { return (fs.allowed(cell) >> bin) & 1u; }
   bool turnable(std::size_t cell, int bin) const
   {
-    const YawMask t = escape_turns ? fs.turnable(cell)
-                                   : fs.clear_turn.data()[cell] | (fs.escape.data()[cell] & ~fs.clear.data()[cell]);
+    const YawMask escape_not_clear = fs.escape.data()[cell] & ~fs.clear.data()[cell];
+    const YawMask t = escape_turns ? fs.turnable(cell) : fs.clear_turn.data()[cell] | escape_not_clear;
     return (t >> bin) & 1u;
   }
   /// Translations outside clear_turn (closer than the turn margin) cost double.

@@ -379,7 +379,8 @@ FootprintSpace computeFootprintSpace(
       queue.push_back(static_cast<int>(i));
     }
     // The escape keeps the clear states it passed through: the search turns
-    // at a cell only between bins of clear_turn | escape, and the escape
+    // at a cell only between bins of clear_turn | escape (those of escape
+    // that are clear only when it finds no path otherwise), and the escape
     // turned between any bins of esc_allowed. Dropping them (as before the
     // twentieth session) left a reach the search could not follow: a robot
     // pinched in its own bin turned through two escape bins into clear, not
