@@ -810,8 +810,8 @@ TEST(FootprintSpace, ThePathSearchFollowsEveryStateTheReachHolds)
   ASSERT_FALSE(pl.fs.clear.data()[ri] & (YawMask(1) << pl.fs.robot_bin));
   std::size_t goals = 0;
   std::string missing;
-  EXPECT_EQ(goalsWithoutPath(pl, f.robot, 4, goals, missing), 0u) << "of " << goals << ":" << missing;
-  EXPECT_GT(goals, 300u);
+  EXPECT_EQ(goalsWithoutPath(pl, f.robot, 15, goals, missing), 0u) << "of " << goals << ":" << missing;
+  EXPECT_GT(goals, 20u) << "the crop's reach";
 
   // The same on the other real map (the omniRob reversed into a door, its
   // start in open unknown's margin) and on the door tests' rooms, from
@@ -820,14 +820,14 @@ TEST(FootprintSpace, ThePathSearchFollowsEveryStateTheReachHolds)
   GroundFixture b11 = loadGroundFixture(voxplore::test::sourceDir() +
                                         "/tests/data/footprint_b11_reversed_into_door.txt");
   const Planned pl11 = footprintSpaceOf(b11.g, b11.robot, omniRobWholeBin(), b11.swept);
-  EXPECT_EQ(goalsWithoutPath(pl11, b11.robot, 3, goals, missing), 0u) << "b11, of " << goals << ":" << missing;
-  EXPECT_GT(goals, 100u);
+  EXPECT_EQ(goalsWithoutPath(pl11, b11.robot, 5, goals, missing), 0u) << "b11, of " << goals << ":" << missing;
+  EXPECT_GT(goals, 40u) << "b11's reach";
   for (const CPose2D& start : {CPose2D(-1.5, 0.3, M_PI / 2), CPose2D(-0.45, 0.0, 0.3),
                                CPose2D(-2.6, 1.1, 0.0), CPose2D(1.0, -1.05, M_PI / 2)})
   {
     GroundGrid g = twoRoomsWithADoor(0.90);
     const Planned rooms = footprintSpaceOf(g, start, omniRob());
-    EXPECT_EQ(goalsWithoutPath(rooms, start, 2, goals, missing), 0u)
+    EXPECT_EQ(goalsWithoutPath(rooms, start, 6, goals, missing), 0u)
         << "rooms from (" << start.x() << ", " << start.y() << ", " << start.phi() << "), of "
         << goals << ":" << missing;
   }
