@@ -85,12 +85,13 @@ struct SE2Search
   bool escape_turns = false;
 
   bool allowed(std::size_t cell, int bin) const { return (fs.allowed(cell) >> bin) & 1u; }
-  bool turnable(std::size_t cell, int bin) const
+  /// The bins this search may turn between at `cell`.
+  YawMask turnMask(std::size_t cell) const
   {
-    const YawMask escape_not_clear = fs.escape.data()[cell] & ~fs.clear.data()[cell];
-    const YawMask t = escape_turns ? fs.turnable(cell) : fs.clear_turn.data()[cell] | escape_not_clear;
-    return (t >> bin) & 1u;
+    if (escape_turns) return fs.turnable(cell);
+    return fs.clear_turn.data()[cell] | (fs.escape.data()[cell] & ~fs.clear.data()[cell]);
   }
+  bool turnable(std::size_t cell, int bin) const { return (turnMask(cell) >> bin) & 1u; }
   /// Translations outside clear_turn (closer than the turn margin) cost double.
   double comfort(std::size_t cell, int bin) const
   {
@@ -368,10 +369,11 @@ std::optional<Path> planFootprintPath(
   if (states.empty())
   {
     // The reach holds the goal (tested above) through the escape's turns:
-    // search again with them.
-    SE2Search relaxed(cs, fs, p);
-    relaxed.escape_turns = true;
-    states = relaxed.run(s_cell, s_bin, t_cell, from_start);
+    // search again with them (and turn at the goal by them too, below).
+    search.escape_turns = true;
+    search.block.assign(search.block.size(), -1);
+    search.nodes.clear();
+    states = search.run(s_cell, s_bin, t_cell, from_start);
   }
   if (states.empty()) return std::nullopt;
 
@@ -428,7 +430,7 @@ std::optional<Path> planFootprintPath(
   const std::size_t last = states.back();
   const int arrive = static_cast<int>(last % fs.bins);
   const YawMask at_goal =
-      (YawMask(1) << arrive) | fs.turnClosure(YawMask(1) << arrive, fs.turnable(t_cell));
+      (YawMask(1) << arrive) | fs.turnClosure(YawMask(1) << arrive, search.turnMask(t_cell));
   const int want = fs.binOf(goal_yaw);
   int best_bin = arrive, best_steps = 0, best_dist = fs.bins;
   for (const int dir : {+1, -1})
