@@ -121,6 +121,27 @@ void printProbe(const exploration::PlanResult& r, const std::array<double, 3>& p
   }
 }
 
+/// The planner's stages in the order the timing lines print them.
+const std::pair<const char*, double exploration::PlanTimings::*> kStages[] = {
+    {"projection", &exploration::PlanTimings::projection},
+    {"collision", &exploration::PlanTimings::collision},
+    {"frontiers", &exploration::PlanTimings::frontiers},
+    {"rooms", &exploration::PlanTimings::rooms},
+    {"tour", &exploration::PlanTimings::tour},
+    {"sampling", &exploration::PlanTimings::sampling},
+    {"rating", &exploration::PlanTimings::rating},
+    {"path", &exploration::PlanTimings::path},
+    {"total", &exploration::PlanTimings::total}};
+
+/// "ms: projection 1.0, ..., total 9.0" of one plan.
+void printTimes(const exploration::PlanTimings& ms, std::ostream& out)
+{
+  out << "ms:";
+  for (const auto& [name, field] : kStages)
+    out << mrpt::format(" %s %.1f%s", name, ms.*field,
+                        field == &exploration::PlanTimings::total ? "\n" : ",");
+}
+
 /// The stages' times over `n` plans (r's and n - 1 more from `again`):
 /// median and minimum of each [ms].
 template <typename Again>
@@ -128,18 +149,8 @@ void printRepeatedTimes(const exploration::PlanResult& r, int n, std::ostream& o
 {
   std::vector<exploration::PlanTimings> t{r.ms};
   for (int k = 1; k < n; ++k) t.push_back(again());
-  const std::pair<const char*, double exploration::PlanTimings::*> stages[] = {
-      {"projection", &exploration::PlanTimings::projection},
-      {"collision", &exploration::PlanTimings::collision},
-      {"frontiers", &exploration::PlanTimings::frontiers},
-      {"rooms", &exploration::PlanTimings::rooms},
-      {"tour", &exploration::PlanTimings::tour},
-      {"sampling", &exploration::PlanTimings::sampling},
-      {"rating", &exploration::PlanTimings::rating},
-      {"path", &exploration::PlanTimings::path},
-      {"total", &exploration::PlanTimings::total}};
   out << "ms over " << n << " plans (median / min):";
-  for (const auto& [name, field] : stages)
+  for (const auto& [name, field] : kStages)
   {
     std::vector<double> v;
     for (const auto& x : t) v.push_back(x.*field);
@@ -265,10 +276,7 @@ exploration::PlanResult PlanApp::execute(const PlanOptions& o, std::ostream& out
     out << mrpt::format("target (%.3f, %.3f, %.1f deg), %zu waypoints, %zu samples\n", r.target.x(),
                         r.target.y(), mrpt::RAD2DEG(r.target.phi()), r.waypoints.size(),
                         r.samples.size());
-  out << mrpt::format("ms: projection %.1f, collision %.1f, frontiers %.1f, rooms %.1f, tour %.1f, "
-                      "sampling %.1f, rating %.1f, path %.1f, total %.1f\n",
-                      r.ms.projection, r.ms.collision, r.ms.frontiers, r.ms.rooms, r.ms.tour,
-                      r.ms.sampling, r.ms.rating, r.ms.path, r.ms.total);
+  printTimes(r.ms, out);
   if (o.repeat > 1) printRepeatedTimes(r, o.repeat, out, [&]() {
       return exploration::plan(*V, in.robot, params, in.blacklist, in.step, in.swept,
                                in.sensed_obstacles, in.approach, in.low_obstacles).ms;
