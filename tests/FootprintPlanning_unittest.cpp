@@ -832,3 +832,48 @@ TEST(FootprintSpace, ThePathSearchFollowsEveryStateTheReachHolds)
         << goals << ":" << missing;
   }
 }
+
+TEST(FootprintSpace, ARobotWedgedAtASkewInADoorStraightensAndBacksOut)
+{
+  // b6, omniRob, nbv (a real map, 32 bins at the defaults): the guard held
+  // a drive through a 0.80 m door at a skew and the robot stood half
+  // through it, 11 deg off the door's axis. Its own bin was clear and
+  // turnable, so the boxed-in escape (then: "the start is not turnable and
+  // no reached state is") did not run; but neither neighbour bin was
+  // turnable and translation in its bin went one cell: 2 cells reached,
+  // 962 m^2 of known floor cut off, "no frontier". Boxed in means no reached
+  // state can turn (a turnable bin with a turnable neighbour).
+  GroundFixture f = loadGroundFixture(voxplore::test::sourceDir() +
+                                      "/tests/data/footprint_b6_wedged_door.txt");
+  const Planned pl = footprintSpaceOf(f.g, f.robot, omniRob(), f.swept);
+  const std::size_t nx = f.g.state.getSizeX();
+  const std::size_t ri = static_cast<std::size_t>(pl.fs.robot.cy) * nx + pl.fs.robot.cx;
+  const YawMask own = YawMask(1) << pl.fs.robot_bin;
+  // The precondition: clear and turnable in its own bin, not in either neighbour.
+  ASSERT_TRUE(pl.fs.clear.data()[ri] & own);
+  ASSERT_TRUE(pl.fs.clear_turn.data()[ri] & own);
+  ASSERT_FALSE(pl.fs.clear_turn.data()[ri] & pl.fs.neighbourBins(own));
+  EXPECT_TRUE(pl.fs.escape_boxed_in);
+  std::size_t reached = 0;
+  for (const YawMask m : pl.fs.reach.data()) reached += m != 0;
+  EXPECT_GT(reached, 1000u) << "cells reached (2 before the rule asked whether a state can turn)";
+  // Both rooms the door joins (1.5 m either side of it, across its axis).
+  EXPECT_TRUE(reachedAt(pl, f.robot.x() - 1.5, f.robot.y()));
+  EXPECT_TRUE(reachedAt(pl, f.robot.x() + 1.5, f.robot.y()));
+  // The start itself overlaps a jamb's square (the squares reach up to a
+  // cell past the wall); every pose after it keeps off them all.
+  ASSERT_TRUE(clipsAWall(f.g, f.robot));
+  for (const double dx : {-1.5, 1.5})
+  {
+    auto path = planFootprintPath(pl.cs, pl.fs, f.robot, {f.robot.x() + dx, f.robot.y()}, 0.0,
+                                  PathParams{});
+    ASSERT_TRUE(path) << "to dx = " << dx;
+    ASSERT_GT(path->waypoints.size(), 2u);
+    path->waypoints.erase(path->waypoints.begin());
+    path->yaws.erase(path->yaws.begin());
+    expectNeverClips(f.g, *path);
+  }
+  std::size_t goals = 0;
+  std::string missing;
+  EXPECT_EQ(goalsWithoutPath(pl, f.robot, 7, goals, missing), 0u) << "of " << goals << ":" << missing;
+}

@@ -87,16 +87,19 @@ YawMask FootprintSpace::allBins() const
   return bins >= 64 ? ~YawMask(0) : (YawMask(1) << bins) - 1;
 }
 
+YawMask FootprintSpace::neighbourBins(YawMask m) const
+{
+  // Circular shift by one bin either way (bin bins-1 borders bin 0: yaw pi is yaw 0).
+  const YawMask all = allBins();
+  return (((m << 1) | (m >> (bins - 1))) | ((m >> 1) | (m << (bins - 1)))) & all;
+}
+
 YawMask FootprintSpace::turnClosure(YawMask seed, YawMask allowed) const
 {
   YawMask m = seed & allowed;
-  const YawMask all = allBins();
   for (;;)
   {
-    // Circular shift by one bin either way (bin bins-1 borders bin 0: yaw pi is yaw 0).
-    const YawMask up = ((m << 1) | (m >> (bins - 1))) & all;
-    const YawMask down = ((m >> 1) | (m << (bins - 1))) & all;
-    const YawMask next = m | ((up | down) & allowed);
+    const YawMask next = m | (neighbourBins(m) & allowed);
     if (next == m) return m;
     m = next;
   }
@@ -391,35 +394,57 @@ FootprintSpace computeFootprintSpace(
   if (pack)  // blockedOcc is not needed any more: clear_occ holds its bins alone
     for (std::size_t i = 0; i < n; ++i) clear_occ[i] &= low;
   flood(fs, reach, clear, clear_turn, queue, nx, ny);
-  // Boxed in: the start is clear but not turnable and no turnable state is
-  // reached (b14, nbv: the robot stood in a door one bin off the way it came
-  // in, its bin blocked by the unknown round the door a few cells on, no
-  // 5 cm turn margin in the door: 4 cells reached, "no frontier", 0.319).
-  // Escape through states clear of occupied cells by the margin (unknown
-  // ignored), turning there without the turn margin, up to the first
-  // turnable state. The guard still holds a turn that comes within its
-  // margin of a sensed point.
-  if ((clear[ri] & own) && !(clear_turn[ri] & own))
+  // Boxed in: the start is clear but no reached state can turn, i.e. no
+  // reached bin of clear_turn has a neighbour bin in clear_turn (b14, nbv:
+  // the robot stood in a door one bin off the way it came in, its bin
+  // blocked by the unknown round the door a few cells on, no 5 cm turn
+  // margin in the door: 4 cells reached, "no frontier", 0.319; b6, nbv: the
+  // omniRob half through a 0.80 m door 11 deg off its axis, its own bin
+  // turnable but neither neighbour, translation one cell: 2 cells reached,
+  // 962 m^2 cut off). Escape through states clear of occupied cells by the
+  // margin (unknown ignored), turning there without the turn margin, up to
+  // the first state that can turn. The guard still holds a turn that comes
+  // within its margin of a sensed point.
+  const auto canTurn = [&](std::size_t i) {
+    return clear_turn[i] & fs.neighbourBins(clear_turn[i]);
+  };
+  if (clear[ri] & own)
   {
-    bool turnable = false;
-    for (std::size_t i = 0; i < n && !turnable; ++i) turnable = (reach[i] & clear_turn[i]) != 0;
-    if (!turnable)
+    bool turns = false;
+    for (std::size_t i = 0; i < n && !turns; ++i) turns = (reach[i] & canTurn(i)) != 0;
+    if (!turns)
     {
+      std::vector<YawMask> turning(n);
+      for (std::size_t i = 0; i < n; ++i) turning[i] = canTurn(i);
       escape[ri] = fs.turnClosure(own, clear_occ[ri]);
       std::deque<int> q{static_cast<int>(ri)};
-      flood(fs, escape, clear_occ, clear_occ, q, nx, ny, clear_turn);
+      flood(fs, escape, clear_occ, clear_occ, q, nx, ny, turning.data());
+      bool found = false;
       for (std::size_t i = 0; i < n; ++i)
       {
-        const YawMask s = escape[i] & clear_turn[i];
+        const YawMask s = escape[i] & turning[i];
         if (!s) continue;
+        found = true;
         escape[i] &= ~clear_turn[i];
         const YawMask fresh = (s | fs.turnClosure(s, clear_turn[i])) & ~reach[i];
         if (!fresh) continue;
         reach[i] |= fresh;
         queue.push_back(static_cast<int>(i));
       }
-      fs.escape_boxed_in = true;
-      flood(fs, reach, clear, clear_turn, queue, nx, ny);
+      if (!found && (clear_turn[ri] & own))
+      {
+        // No state that can turn anywhere the escape goes (a region too
+        // narrow to turn in, a corridor narrower than the body's diagonal):
+        // its states, clear of occupied cells only, do not join the reach;
+        // a start that could not even turn in its own bin keeps them, as
+        // before the twenty-first session.
+        std::fill(escape, escape + n, YawMask(0));
+      }
+      else
+      {
+        fs.escape_boxed_in = true;
+        flood(fs, reach, clear, clear_turn, queue, nx, ny);
+      }
     }
   }
   // The escape states are reached too (the robot passes through them).

@@ -77,6 +77,8 @@ struct FootprintSpace
   YawMask allowed(std::size_t i) const { return clear.data()[i] | escape.data()[i]; }
   /// @brief Bins between which the search may turn at cell i: clear_turn or escape.
   YawMask turnable(std::size_t i) const { return clear_turn.data()[i] | escape.data()[i]; }
+  /// @brief The bins one bin off a bin of m, either way (circularly).
+  YawMask neighbourBins(YawMask m) const;
   /// @brief The bins of `allowed` that turning in place from `seed` reaches
   ///        (circularly connected runs of `allowed` holding a bit of seed).
   YawMask turnClosure(YawMask seed, YawMask allowed) const;
