@@ -56,7 +56,14 @@ struct SE2Search
     res = cs.state.getResolution();
     // A turn by one bin costs the arc of half the circumradius.
     turn_cost = fs.binWidth() * 0.5 * 0.5 * std::hypot(fs.length_m, fs.width_m);
+    forget();
+  }
+
+  /// No state touched yet (before a search, or before searching again).
+  void forget()
+  {
     block.assign(static_cast<std::size_t>(nx) * ny, -1);
+    nodes.clear();
   }
 
   Node& node(std::size_t s)
@@ -371,8 +378,7 @@ std::optional<Path> planFootprintPath(
     // The reach holds the goal (tested above) through the escape's turns:
     // search again with them (and turn at the goal by them too, below).
     search.escape_turns = true;
-    search.block.assign(search.block.size(), -1);
-    search.nodes.clear();
+    search.forget();
     states = search.run(s_cell, s_bin, t_cell, from_start);
   }
   if (states.empty()) return std::nullopt;

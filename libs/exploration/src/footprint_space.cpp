@@ -411,7 +411,7 @@ FootprintSpace computeFootprintSpace(
   if (clear[ri] & own)
   {
     bool turns = false;
-    for (std::size_t i = 0; i < n && !turns; ++i) turns = (reach[i] & canTurn(i)) != 0;
+    for (std::size_t i = 0; i < n && !turns; ++i) turns = reach[i] && (reach[i] & canTurn(i));
     if (!turns)
     {
       std::vector<YawMask> turning(n);
