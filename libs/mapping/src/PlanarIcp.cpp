@@ -35,6 +35,11 @@ void IcpParams::loadFromConfigFile(const mrpt::config::CConfigFileBase& c, const
   MRPT_LOAD_CONFIG_VAR(max_correction_xy_m, double, c, s);
   MRPT_LOAD_CONFIG_VAR_DEGREES(max_correction_yaw, c, s);
   MRPT_LOAD_CONFIG_VAR(correction_gate_sigmas, double, c, s);
+  MRPT_LOAD_CONFIG_VAR(hold_sigmas, double, c, s);
+  MRPT_LOAD_CONFIG_VAR(hold_min_m, double, c, s);
+  MRPT_LOAD_CONFIG_VAR(hold_sure_goodness, double, c, s);
+  MRPT_LOAD_CONFIG_VAR(keep_fitting_prediction, bool, c, s);
+  MRPT_LOAD_CONFIG_VAR(keep_low_overlap_max_std_m, double, c, s);
   MRPT_LOAD_CONFIG_VAR(confirm_large_corrections, bool, c, s);
   MRPT_LOAD_CONFIG_VAR(confirm_xy_m, double, c, s);
   MRPT_LOAD_CONFIG_VAR_DEGREES(confirm_yaw, c, s);
@@ -77,6 +82,11 @@ void IcpParams::loadFromConfigFile(const mrpt::config::CConfigFileBase& c, const
                "low_overlap_min_goodness", "must be in [0, 1]");
   requireValid(max_correction_xy_m > 0, c, s, "max_correction_xy_m", "must be positive");
   requireValid(correction_gate_sigmas >= 0, c, s, "correction_gate_sigmas", "must be >= 0");
+  requireValid(hold_sigmas >= 0, c, s, "hold_sigmas", "must be >= 0 (0 = off)");
+  requireValid(hold_min_m >= 0, c, s, "hold_min_m", "must be >= 0");
+  requireValid(keep_low_overlap_max_std_m >= 0, c, s, "keep_low_overlap_max_std_m", "must be >= 0");
+  requireValid(hold_sure_goodness >= 0 && hold_sure_goodness <= 1, c, s, "hold_sure_goodness",
+               "must be in [0, 1]");
   requireValid(max_correction_yaw > 0, c, s, "max_correction_yaw", "must be positive");
   requireValid(confirm_xy_m > 0, c, s, "confirm_xy_m", "must be positive");
   requireValid(confirm_yaw > 0, c, s, "confirm_yaw", "must be positive");
@@ -127,6 +137,11 @@ void IcpParams::saveToConfigFile(mrpt::config::CConfigFileBase& c, const std::st
   MRPT_SAVE_CONFIG_VAR(max_correction_xy_m, c, s);
   MRPT_SAVE_CONFIG_VAR_DEGREES(max_correction_yaw, c, s);
   MRPT_SAVE_CONFIG_VAR(correction_gate_sigmas, c, s);
+  MRPT_SAVE_CONFIG_VAR(hold_sigmas, c, s);
+  MRPT_SAVE_CONFIG_VAR(hold_min_m, c, s);
+  MRPT_SAVE_CONFIG_VAR(hold_sure_goodness, c, s);
+  MRPT_SAVE_CONFIG_VAR(keep_fitting_prediction, c, s);
+  MRPT_SAVE_CONFIG_VAR(keep_low_overlap_max_std_m, c, s);
   MRPT_SAVE_CONFIG_VAR(confirm_large_corrections, c, s);
   MRPT_SAVE_CONFIG_VAR(confirm_xy_m, c, s);
   MRPT_SAVE_CONFIG_VAR_DEGREES(confirm_yaw, c, s);
@@ -328,6 +343,17 @@ IcpResult alignPlanarMultiStart(
     out.reason = out.reason.empty() ? why.str() : out.reason + "; " + why.str();
   }
   return out;
+}
+
+double goodnessAt(const mrpt::maps::CPointsMap& reference_map, const mrpt::maps::CPointsMap& cloud_robot,
+                  const CPose2D& pose, const IcpParams& p, const Viewpoints* reference_viewpoints)
+{
+  // No iteration: the refinement's final pairing at d_max_final_m only.
+  IcpParams q = p;
+  q.max_iterations = 0;
+  const auto at = detail::refinePointToLine(reference_map, cloud_robot, pose, p.d_max_final_m, q, pose,
+                                            p.same_side_only ? reference_viewpoints : nullptr);
+  return at.used ? double(at.near) / double(at.used) : 0.0;
 }
 
 double odometryStdXy(const CPose2D& step, const IcpParams& p)

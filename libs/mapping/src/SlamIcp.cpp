@@ -121,14 +121,17 @@ void SlamIcp::registerStop(StopReport& rep, const RobotCloud& cloud, bool has_de
       if (len > icp.odometry_prior_step_m)
         icp.odometry_prior_pairs *= std::pow(icp.odometry_prior_step_m / len, 2);
     }
-    const double gate_xy_m = icp.correction_gate_sigmas * odometryStdSinceRegistered(rep.predicted);
+    const double std_since_m = odometryStdSinceRegistered(rep.predicted);
+    const double gate_xy_m = icp.correction_gate_sigmas * std_since_m;
     rep.icp = alignPlanarMultiStart(metaview_.footprint(), cloud.points, rep.predicted, icp,
                                     &metaview_.footprintViewpoints(), odometryStdXy(step, icp), gate_xy_m);
+    holdIfUnsure(rep, std_since_m);
     const IcpResult first_try = rep.icp;
-    const bool confirmed = !rep.icp.accepted && pending && confirmLargeCorrection(rep, cloud, *pending);
+    const bool confirmed = pending && confirmLargeCorrection(rep, cloud, *pending);
     // ICP ran and was rejected: the prediction may be wrong (an odometry
-    // jump). Search round it; accepted only when unambiguous.
-    if (!confirmed && !rep.icp.accepted && params_.icp.enabled && params_.icp.relocalize &&
+    // jump). Search round it; accepted only when unambiguous. A held
+    // registration converged: it waits for the next stop instead.
+    if (!confirmed && !rep.icp.accepted && !rep.held && params_.icp.enabled && params_.icp.relocalize &&
         rep.icp.iterations > 0)
     {
       const std::string first_reason = rep.icp.reason;
@@ -137,9 +140,13 @@ void SlamIcp::registerStop(StopReport& rep, const RobotCloud& cloud, bool has_de
       rep.icp.reason = first_reason + "; " + rep.icp.reason;
       rep.relocalized = rep.icp.accepted;
     }
+    if (!rep.icp.accepted && params_.icp.keep_fitting_prediction && first_try.iterations > 0 &&
+        !confirmed)
+      keepFittingPrediction(rep, cloud, first_try, std_since_m);
     rep.pose = rep.icp.pose;
-    if (!rep.icp.accepted && params_.icp.confirm_large_corrections && first_try.over_correction_limit &&
-        !first_try.degenerate && first_try.goodness >= params_.icp.confirm_min_goodness)
+    const bool large = first_try.over_correction_limit && !first_try.degenerate &&
+                       first_try.goodness >= params_.icp.confirm_min_goodness;
+    if (!rep.icp.accepted && params_.icp.confirm_large_corrections && (large || rep.held))
       large_correction_ = LargeCorrection{rep.index, first_try.icp_pose, rep.predicted, first_try.goodness};
   }
   rep.t_icp_ms = 1e3 * tic.Tac();
@@ -154,10 +161,54 @@ void SlamIcp::registerStop(StopReport& rep, const RobotCloud& cloud, bool has_de
   }
 }
 
+void SlamIcp::holdIfUnsure(StopReport& rep, double std_since_m)
+{
+  const IcpParams& p = params_.icp;
+  if (!rep.icp.accepted || p.hold_sigmas <= 0 || rep.icp.goodness >= p.hold_sure_goodness) return;
+  const double dxy = std::hypot(rep.icp.pose.x() - rep.predicted.x(), rep.icp.pose.y() - rep.predicted.y());
+  const double stds = dxy / std::max(std_since_m, 1e-9);
+  if (dxy <= p.hold_min_m || stds <= p.hold_sigmas) return;
+  std::ostringstream why;
+  why << "held: correction " << dxy << " m (" << stds << " odometry stds > hold_sigmas = " << p.hold_sigmas
+      << ") at goodness " << rep.icp.goodness << " < hold_sure_goodness = " << p.hold_sure_goodness
+      << (p.confirm_large_corrections ? ", waits for the next stop to confirm it" : "");
+  if (!rep.icp.reason.empty()) why << "; " << rep.icp.reason;
+  rep.icp.reason = why.str();
+  rep.icp.accepted = false;
+  rep.icp.icp_pose = rep.icp.pose;  // what the next stop is to confirm
+  rep.icp.pose = rep.predicted;
+  rep.held = true;
+}
+
+void SlamIcp::keepFittingPrediction(StopReport& rep, const RobotCloud& cloud, const IcpResult& first_try,
+                                    double std_since_m)
+{
+  const IcpParams& p = params_.icp;
+  const double g_pred = goodnessAt(metaview_.footprint(), cloud.points, rep.predicted, p,
+                                   &metaview_.footprintViewpoints());
+  const double g_icp = std::max(first_try.goodness, rep.icp.goodness);
+  if (g_pred < p.low_overlap_min_goodness) return;
+  // A stop seeing mostly new space, refused for its goodness, on odometry
+  // still tight: odometry is the estimate, as the low-overlap rule's.
+  const bool new_space = !rep.held && !first_try.over_correction_limit && first_try.goodness < p.min_goodness &&
+                         std_since_m <= p.keep_low_overlap_max_std_m;
+  if (g_pred < g_icp && !new_space) return;
+  std::ostringstream why;
+  why << "odometry kept: the prediction pairs " << g_pred << " of the cloud, the registration " << g_icp;
+  if (g_pred < g_icp) why << ", odometry std " << std_since_m << " m";
+  why << " (" << rep.icp.reason << ")";
+  rep.icp.reason = why.str();
+  rep.icp.accepted = true;
+  rep.icp.pose = rep.predicted;
+  rep.icp.goodness = g_pred;
+  rep.odometry_kept = true;
+  rep.held = false;
+}
+
 double SlamIcp::odometryStdSinceRegistered(const CPose2D& predicted) const
 {
   double std_m = odometryStdXy(predicted - pose_, params_.icp);
-  for (auto it = reports_.rbegin(); it != reports_.rend() && it->flagged; ++it)
+  for (auto it = reports_.rbegin(); it != reports_.rend() && (it->flagged || it->odometry_kept); ++it)
   {
     const auto prev = std::next(it);
     if (prev == reports_.rend()) break;
@@ -175,8 +226,12 @@ bool SlamIcp::confirmLargeCorrection(StopReport& rep, const RobotCloud& cloud, c
   inverse_prediction.inverse();
   const CPose2D D = lc.icp_pose + inverse_prediction;
   const CPose2D carried = D + rep.predicted;
-  IcpResult r = alignPlanar(metaview_.footprint(), cloud.points, carried, params_.icp,
-                            &metaview_.footprintViewpoints());
+  // Registered from the prediction already and accepted: it confirms when it
+  // landed where the correction carries (a held correction of a few odometry
+  // stds at the stop before can be within this stop's own limits).
+  IcpResult r = rep.icp.accepted ? rep.icp
+                                 : alignPlanar(metaview_.footprint(), cloud.points, carried, params_.icp,
+                                               &metaview_.footprintViewpoints());
   const double dxy = std::hypot(r.pose.x() - carried.x(), r.pose.y() - carried.y());
   const double dyaw = std::abs(mrpt::math::wrapToPi(r.pose.phi() - carried.phi()));
   if (!r.accepted || r.degenerate || r.goodness < params_.icp.confirm_min_goodness ||

@@ -63,6 +63,14 @@ struct StopReport
   /// correction, and agreeing with it ([icp] confirm_large_corrections): the
   /// previous stop's pose was corrected too.
   bool confirmed_correction = false;
+  /// ICP converged and passed its checks, but its correction was too large
+  /// for its goodness ([icp] hold_sigmas, hold_min_m, hold_sure_goodness):
+  /// the stop is flagged, at its prediction, until the next stop confirms it.
+  bool held = false;
+  /// The registration was refused or held, and the odometry prediction fit
+  /// the cloud at least as well: the stop keeps the prediction and enters the
+  /// map ([icp] keep_fitting_prediction). Its std still counts as unregistered.
+  bool odometry_kept = false;
   std::size_t cameras_used = 0;     ///< depth images that passed checkDepthScan()
   std::vector<CameraIssue> camera_issues;  ///< skipped, cleaned or missing cameras
   std::vector<std::string> warnings;       ///< one line per issue, for the user
@@ -153,6 +161,13 @@ class SlamIcp
   /// carrying that correction; true when it agrees (rep.icp replaced).
   struct LargeCorrection;
   bool confirmLargeCorrection(StopReport& rep, const RobotCloud& cloud, const LargeCorrection& lc);
+  /// Turns an accepted registration into a held one ([icp] hold_sigmas):
+  /// std_since_m is the prediction's odometry std since the last registered stop.
+  void holdIfUnsure(StopReport& rep, double std_since_m);
+  /// A refused or held registration that fits the cloud no better than the
+  /// odometry prediction gives way to it ([icp] keep_fitting_prediction).
+  void keepFittingPrediction(StopReport& rep, const RobotCloud& cloud, const IcpResult& first_try,
+                             double std_since_m);
   /// Steps 4 and 5 and the keyframe, for a stop that is integrated.
   void integrateStop(StopReport& rep, const RobotCloud& cloud,
                      const std::vector<mrpt::obs::CObservation3DRangeScan::Ptr>& scans,
