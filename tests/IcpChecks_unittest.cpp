@@ -111,7 +111,7 @@ TEST(PlanarIcp, ARegistrationInADoorThatFitsWorseThanTheOdometryIsNotTheBetterPo
   const double g_truth = mapping::goodnessAt(s.metaview, s.cloud, s.truth, p, &s.viewpoints);
   EXPECT_GT(g_pred, r.goodness + 0.05);
   EXPECT_GT(g_truth, r.goodness + 0.05);
-  EXPECT_GE(g_pred, p.low_overlap_min_goodness);
+  EXPECT_GE(g_pred, p.min_goodness);
   // goodnessAt() at the registration's own pose is its goodness.
   EXPECT_NEAR(mapping::goodnessAt(s.metaview, s.cloud, r.pose, p, &s.viewpoints), r.goodness, 0.01);
 }

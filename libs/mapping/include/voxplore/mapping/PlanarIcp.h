@@ -71,19 +71,23 @@ struct IcpParams : public mrpt::config::CLoadableOptions
   /// SlamIcp: a stop whose registration was refused or held, while its
   /// odometry prediction pairs at least as much of the cloud as that
   /// registration did (goodnessAt() at the prediction >= the registration's
-  /// goodness, and >= low_overlap_min_goodness), keeps the prediction and
+  /// goodness, and >= min_goodness), keeps the prediction and
   /// enters the map: ICP made the fit worse, odometry is the better estimate.
   /// The b13 door stop paired 0.70 of its cloud at the prediction (4 cm from
   /// the truth) and 0.58 where ICP put it; refused, the stops into the room
   /// behind it found too little of the map to register and kept the map
   /// from growing there. false = refused stops stay out of the map.
   bool keep_fitting_prediction = true;
-  /// ... and a stop refused for its goodness (it sees mostly new space) keeps
-  /// the prediction too, however the registration paired, while the
-  /// odometry std since the last registered stop is at most this [m]: a
-  /// held stop at a new room's door (b5 omniRob nbv) left the room unmapped,
-  /// and the 20 stops into it, pairing 0.27-0.57 of their clouds, were
-  /// refused (the run ended at 0.09). 0 = only where the prediction fits better.
+  /// ... and a stop refused for its goodness (it sees mostly new space)
+  /// right after a stop that stayed out of the map keeps the prediction too,
+  /// however the registration paired, while the odometry std since the last
+  /// registered stop is at most this [m]: a held stop at a new room's door
+  /// (b5 omniRob nbv, half squares) left the room unmapped, and the 20 stops
+  /// into it, pairing 0.27-0.57 of their clouds, were refused (the run ended
+  /// at 0.09). Right after an integrated stop such a stop is refused: kept,
+  /// predictions pairing 0.33-0.47 imprinted their 2-6 cm error on the map
+  /// (omniRob campaign at the defaults). 0 = only where the prediction fits
+  /// better.
   double keep_low_overlap_max_std_m = 0.03;
   bool degeneracy_check = true;    ///< detect directions the scene does not constrain
   double degeneracy_ratio = 0.03;  ///< smallest/largest translational information eigenvalue below this = degenerate
