@@ -15,6 +15,7 @@
 #include <random>
 #include <sstream>
 
+#include "slam_tour.h"
 #include "test_worlds.h"
 
 using namespace voxplore;
@@ -126,7 +127,6 @@ TEST(SlamIcp, AnUnsureLargeCorrectionIsHeldUntilTheNextStopConfirmsIt)
   // prediction fits worse than the registration, so it is not kept. With
   // hold_sigmas = 0 stop 2 is simply registered.
   RoomFixture f;
-  sim::DepthCameraRig rig{sim::CameraRigParams{}};
   const CPose2D s = f.world.start;  // (2, 4, 0) in the DLR room
   const std::vector<CPose2D> truth = {s, s + CPose2D(0.3, 0.1, 0.2), s + CPose2D(0.6, 0.3, 0.4),
                                       s + CPose2D(0.8, 0.3, 0.5), s + CPose2D(0.9, 0.2, 0.6)};
@@ -141,17 +141,8 @@ TEST(SlamIcp, AnUnsureLargeCorrectionIsHeldUntilTheNextStopConfirmsIt)
     p.icp.hold_min_m = 0.10;
     p.icp.hold_sure_goodness = 1.0;
     p.loop_closure.enabled = false;
-    mapping::SlamIcp slam(p);
-    for (std::size_t i = 0; i < truth.size(); i++)
-    {
-      mrpt::obs::CSensoryFrame sf;
-      for (const auto& o : rig.scan(f.caster, CPose3D(truth[i]), mrpt::Clock::fromDouble(i), rng, true))
-        sf.insert(o);
-      const CPose2D rel = truth[i] - truth[0];
-      const CPose2D odo = i >= 2 ? slip + rel : rel;  // the slip, in the odometry frame, from stop 2 on
-      slam.processStop(sf, odo, mrpt::Clock::fromDouble(double(i)));
-    }
-    const auto& out = slam.reports();
+    // The slip, in the odometry frame, from stop 2 on.
+    const auto out = test::runSlamTour(f.caster, p, truth, test::odometryWithError(truth, slip, 2), rng);
     ASSERT_EQ(out.size(), truth.size());
     const auto err = [&](std::size_t i) { return distanceXy(out[i].pose, truth[i] - truth[0]); };
     for (std::size_t i : {2u, 3u, 4u}) EXPECT_LT(err(i), 0.03) << "stop " << i << ": " << out[i].icp.reason;
@@ -188,7 +179,6 @@ TEST(SlamIcp, AStopSeeingMostlyNewSpaceKeepsItsOdometryOnlyAfterAStopOutOfTheMap
   // so a run of refused stops cannot freeze the map. Off
   // (keep_low_overlap_max_std_m = 0), stop 2 is refused too.
   RoomFixture f;
-  sim::DepthCameraRig rig{sim::CameraRigParams{}};
   const CPose2D s = f.world.start;
   const std::vector<CPose2D> truth = {s, s + CPose2D(0.2, 0.0, 0.1), s + CPose2D(0.35, 0.05, 0.2)};
   const CPose2D slip(0.0, 0.03, 0.0);
@@ -200,16 +190,10 @@ TEST(SlamIcp, AStopSeeingMostlyNewSpaceKeepsItsOdometryOnlyAfterAStopOutOfTheMap
     p.icp.relocalize = false;
     p.icp.keep_low_overlap_max_std_m = keep_std;
     p.loop_closure.enabled = false;
-    mapping::SlamIcp slam(p);
-    for (std::size_t i = 0; i < truth.size(); i++)
-    {
-      mrpt::obs::CSensoryFrame sf;
-      for (const auto& o : rig.scan(f.caster, CPose3D(truth[i]), mrpt::Clock::fromDouble(i), rng, true))
-        if (i > 0 || std::abs(mrpt::math::wrapToPi(o->sensorPose.yaw())) < mrpt::DEG2RAD(100.0)) sf.insert(o);
-      const CPose2D rel = truth[i] - truth[0];
-      slam.processStop(sf, i >= 1 ? slip + rel : rel, mrpt::Clock::fromDouble(double(i)));
-    }
-    const auto& out = slam.reports();
+    const auto forward_at_stop_0 = [](std::size_t stop, const mrpt::obs::CObservation3DRangeScan& cam)
+    { return stop > 0 || std::abs(mrpt::math::wrapToPi(cam.sensorPose.yaw())) < mrpt::DEG2RAD(100.0); };
+    const auto out =
+        test::runSlamTour(f.caster, p, truth, test::odometryWithError(truth, slip, 1), rng, forward_at_stop_0);
     ASSERT_EQ(out.size(), truth.size());
     for (std::size_t i : {1u, 2u})
       std::cout << "[ new space ] stop " << i << ": goodness " << out[i].icp.goodness << ", " << out[i].icp.reason

@@ -12,6 +12,7 @@
 
 #include <random>
 
+#include "slam_tour.h"
 #include "test_worlds.h"
 
 using namespace voxplore;
@@ -392,7 +393,6 @@ TEST(SlamIcp, ALargeOdometryErrorIsTakenWhenTheNextStopConfirmsIt)
   // agrees: both are corrected. Relocalisation is off so that only the
   // confirmation can fix it.
   RoomFixture f;
-  sim::DepthCameraRig rig{sim::CameraRigParams{}};
   std::mt19937_64 rng(5);
   const CPose2D s = f.world.start;  // (2, 4, 0) in the DLR room
   const std::vector<CPose2D> truth = {s, s + CPose2D(0.3, 0.1, 0.2), s + CPose2D(0.6, 0.3, 0.8),
@@ -405,19 +405,8 @@ TEST(SlamIcp, ALargeOdometryErrorIsTakenWhenTheNextStopConfirmsIt)
     p.icp.relocalize = false;
     p.icp.confirm_large_corrections = confirm;
     p.loop_closure.enabled = false;
-    mapping::SlamIcp slam(p);
-    std::vector<mapping::StopReport> reps;
-    for (std::size_t i = 0; i < truth.size(); i++)
-    {
-      mrpt::obs::CSensoryFrame sf;
-      for (const auto& o : rig.scan(f.caster, CPose3D(truth[i]), mrpt::Clock::fromDouble(i), rng, true))
-        sf.insert(o);
-      // Odometry: the true motion, turned by 12 deg from stop 2 on (about the start).
-      const CPose2D rel = truth[i] - truth[0];
-      const CPose2D odo = i >= 2 ? odo_error + rel : rel;
-      reps.push_back(slam.processStop(sf, odo, mrpt::Clock::fromDouble(double(i))));
-    }
-    const auto& out = slam.reports();
+    // Odometry: the true motion, turned by 12 deg from stop 2 on (about the start).
+    const auto out = test::runSlamTour(f.caster, p, truth, test::odometryWithError(truth, odo_error, 2), rng);
     ASSERT_EQ(out.size(), truth.size());
     EXPECT_TRUE(out[2].flagged) << out[2].icp.reason;
     EXPECT_NE(out[2].icp.reason.find("deg > 10 deg"), std::string::npos) << out[2].icp.reason;
@@ -502,7 +491,6 @@ TEST(SlamIcp, ALargeCorrectionAfterATurnPassesTheOdometryGate)
   // limit is 0.72 m there and stop 2 is registered. Relocalisation and the
   // confirmation are off so that only the gate can take it.
   RoomFixture f;
-  sim::DepthCameraRig rig{sim::CameraRigParams{}};
   const CPose2D s = f.world.start;  // (2, 4, 0) in the DLR room
   const std::vector<CPose2D> truth = {s, s + CPose2D(0.3, 0.1, 0.2), s + CPose2D(0.3, 0.1, 0.2 + M_PI * 170 / 180),
                                       s + CPose2D(0.4, 0.1, 3.2), s + CPose2D(0.5, 0.2, 3.3)};
@@ -516,17 +504,7 @@ TEST(SlamIcp, ALargeCorrectionAfterATurnPassesTheOdometryGate)
     p.icp.confirm_large_corrections = false;
     p.icp.correction_gate_sigmas = sigmas;
     p.loop_closure.enabled = false;
-    mapping::SlamIcp slam(p);
-    for (std::size_t i = 0; i < truth.size(); i++)
-    {
-      mrpt::obs::CSensoryFrame sf;
-      for (const auto& o : rig.scan(f.caster, CPose3D(truth[i]), mrpt::Clock::fromDouble(i), rng, true))
-        sf.insert(o);
-      const CPose2D rel = truth[i] - truth[0];
-      const CPose2D odo = i >= 2 ? CPose2D(rel.x() + odo_error.x(), rel.y() + odo_error.y(), rel.phi()) : rel;
-      slam.processStop(sf, odo, mrpt::Clock::fromDouble(double(i)));
-    }
-    const auto& out = slam.reports();
+    const auto out = test::runSlamTour(f.caster, p, truth, test::odometryWithError(truth, odo_error, 2), rng);
     ASSERT_EQ(out.size(), truth.size());
     const auto err = [&](std::size_t i)
     {
