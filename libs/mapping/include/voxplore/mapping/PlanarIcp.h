@@ -79,15 +79,15 @@ struct IcpParams : public mrpt::config::CLoadableOptions
   /// from growing there. false = refused stops stay out of the map.
   bool keep_fitting_prediction = true;
   /// ... and a stop refused for its goodness (it sees mostly new space)
-  /// right after a stop that stayed out of the map keeps the prediction too,
-  /// however the registration paired, while the odometry std since the last
-  /// registered stop is at most this [m]: a held stop at a new room's door
-  /// (b5 omniRob nbv, half squares) left the room unmapped, and the 20 stops
-  /// into it, pairing 0.27-0.57 of their clouds, were refused (the run ended
-  /// at 0.09). Right after an integrated stop such a stop is refused: kept
-  /// there, 3 of 5 predictions pairing 0.33-0.47 put their stop 1.8-3.4 cm
-  /// further off the truth, and the map with it (omniRob campaign at the
-  /// defaults). 0 = only where the prediction fits better.
+  /// right after a held stop keeps the prediction too, however the
+  /// registration paired, while the odometry std since the last registered
+  /// stop is at most this [m]: a held stop at a new room's door (b5 omniRob
+  /// nbv, half squares) left the room unmapped, and the 20 stops into it,
+  /// pairing 0.27-0.57 of their clouds, were refused (the run ended at
+  /// 0.09). After an ordinary refusal such a stop is refused: kept there, 6
+  /// of 9 predictions pairing 0.28-0.47 put their stop 1.8-4.2 cm further off
+  /// the truth, and the map with it (omniRob runs at the defaults).
+  /// 0 = only where the prediction fits better.
   double keep_low_overlap_max_std_m = 0.03;
   bool degeneracy_check = true;    ///< detect directions the scene does not constrain
   double degeneracy_ratio = 0.03;  ///< smallest/largest translational information eigenvalue below this = degenerate
