@@ -192,8 +192,11 @@ void SlamIcp::keepFittingPrediction(StopReport& rep, const RobotCloud& cloud, co
   // registration would: a prediction pairing a third of the cloud "better"
   // than a registration pairing a fifth is no evidence, and kept it put its
   // stop 2.8 cm further off (b8 omniRob nearest at the defaults: ATE 0.042
-  // -> 0.074 m).
-  const bool fits_better = g_pred >= g_icp && g_pred >= p.min_goodness;
+  // -> 0.074 m). For a refused (not held) registration the odometry must
+  // also still be tight: after 9 refused stops a prediction 11 cm off paired
+  // 0.54, was kept and shut the run at 0.947 (b1 omniRob nbv).
+  const bool fits_better = g_pred >= g_icp && g_pred >= p.min_goodness &&
+                           (rep.held || std_since_m <= p.keep_low_overlap_max_std_m);
   // A stop seeing mostly new space, refused for its goodness, on odometry
   // still tight, right after a held stop: odometry is the estimate, as the
   // low-overlap rule's. A held stop leaves the map without the place the
