@@ -184,6 +184,10 @@ void SlamIcp::keepFittingPrediction(StopReport& rep, const RobotCloud& cloud, co
                                     double std_since_m)
 {
   const IcpParams& p = params_.icp;
+  // Both rules below need a held stop or odometry still tight: otherwise no
+  // pairing pass is owed.
+  const bool tight = std_since_m <= p.keep_low_overlap_max_std_m;
+  if (!rep.held && !tight) return;
   const double g_pred = goodnessAt(metaview_.footprint(), cloud.points, rep.predicted, p,
                                    &metaview_.footprintViewpoints());
   const double g_icp = std::max(first_try.goodness, rep.icp.goodness);
@@ -196,7 +200,7 @@ void SlamIcp::keepFittingPrediction(StopReport& rep, const RobotCloud& cloud, co
   // also still be tight: after 9 refused stops a prediction 11 cm off paired
   // 0.54, was kept and shut the run at 0.947 (b1 omniRob nbv).
   const bool fits_better = g_pred >= g_icp && g_pred >= p.min_goodness &&
-                           (rep.held || std_since_m <= p.keep_low_overlap_max_std_m);
+                           (rep.held || tight);
   // A stop seeing mostly new space, refused for its goodness, on odometry
   // still tight, right after a held stop: odometry is the estimate, as the
   // low-overlap rule's. A held stop leaves the map without the place the
@@ -210,7 +214,7 @@ void SlamIcp::keepFittingPrediction(StopReport& rep, const RobotCloud& cloud, co
   // off the truth than the last integrated stop.
   const bool after_held = !reports_.empty() && reports_.back().held;
   const bool new_space = !rep.held && after_held && !first_try.over_correction_limit &&
-                         first_try.goodness < p.min_goodness && std_since_m <= p.keep_low_overlap_max_std_m;
+                         first_try.goodness < p.min_goodness && tight;
   if (!fits_better && !new_space) return;
   std::ostringstream why;
   why << "odometry kept: the prediction pairs " << g_pred << " of the cloud, the registration " << g_icp;
