@@ -37,14 +37,26 @@ CollisionParams omniRob()
 }
 
 /// The omniRob as the cases below were found: every yaw of a bin at the cell
-/// centres (footprint_bin_span 1, footprint_lateral_m 0; the defaults since
-/// the sixteenth session are 0.35 and 2.5 cm, and open some of their doors
-/// without the mechanism each case tests).
+/// centres on whole squares (footprint_bin_span 1, footprint_lateral_m 0,
+/// footprint_square_share 1; the defaults since the sixteenth session are
+/// 0.35 and 2.5 cm, since the twenty-third half squares, and they open some
+/// of their doors without the mechanism each case tests).
 CollisionParams omniRobWholeBin()
 {
   CollisionParams p = omniRob();
   p.footprint_bin_span = 1.0;
   p.footprint_lateral_m = 0.0;
+  p.footprint_square_share = 1.0;
+  return p;
+}
+
+/// The omniRob at the defaults but on whole squares (footprint_square_share
+/// 1, the default up to the twenty-second session): the door widths of the
+/// cases below are set against whole squares.
+CollisionParams omniRobWholeSquares()
+{
+  CollisionParams p = omniRob();
+  p.footprint_square_share = 1.0;
   return p;
 }
 
@@ -619,7 +631,7 @@ TEST(FootprintSpace, ABinSpanOfZeroKeepsTheMarginAtTheBinsCentreYawOnly)
   paint(g, 0.0, 0.1, -1.5, -0.45, GroundState::Occupied);  // squares up to y = -0.45
   paint(g, 0.0, 0.1, 0.40, 1.5, GroundState::Occupied);    // ... from y = 0.40
   const CPose2D start(1.6, -0.025, 0.0);
-  CollisionParams p = omniRob();
+  CollisionParams p = omniRobWholeSquares();
   p.yaw_bins = 16;
   p.footprint_bin_span = 1.0;
   p.footprint_lateral_m = 0.0;
@@ -651,7 +663,7 @@ TEST(FootprintSpace, ADoorWhoseMiddleFallsBetweenTwoCellCentresIsPassedMovedSide
   paint(g, 0.0, 0.1, -1.5, -0.40, GroundState::Occupied);  // squares up to y = -0.40
   paint(g, 0.0, 0.1, 0.40, 1.5, GroundState::Occupied);    // ... from y = 0.40
   const CPose2D start(1.6, 0.025, 0.0);
-  CollisionParams p = omniRob();
+  CollisionParams p = omniRobWholeSquares();
   p.yaw_bins = 16;
   p.footprint_bin_span = 0.0;
   p.footprint_lateral_m = 0.0;
@@ -732,7 +744,7 @@ TEST(FootprintSpace, HalfSquaresNarrowTranslationNotTurning)
   // turned where the guard held the body (b3 omniRob nearest: 0.614).
   GroundGrid g = twoRoomsWithADoor(0.85);
   const CPose2D start(1.6, 0.0, 0.0);
-  CollisionParams p = omniRob();
+  CollisionParams p = omniRobWholeSquares();
   const Planned whole = footprintSpaceOf(g, start, p);
   p.footprint_square_share = 0.5;
   const Planned half = footprintSpaceOf(g, start, p);
@@ -845,7 +857,7 @@ TEST(FootprintSpace, ARobotWedgedAtASkewInADoorStraightensAndBacksOut)
   // state can turn (a turnable bin with a turnable neighbour).
   GroundFixture f = loadGroundFixture(voxplore::test::sourceDir() +
                                       "/tests/data/footprint_b6_wedged_door.txt");
-  const Planned pl = footprintSpaceOf(f.g, f.robot, omniRob(), f.swept);
+  const Planned pl = footprintSpaceOf(f.g, f.robot, omniRobWholeSquares(), f.swept);
   const std::size_t nx = f.g.state.getSizeX();
   const std::size_t ri = static_cast<std::size_t>(pl.fs.robot.cy) * nx + pl.fs.robot.cx;
   const YawMask own = YawMask(1) << pl.fs.robot_bin;
