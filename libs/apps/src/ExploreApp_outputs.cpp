@@ -147,6 +147,7 @@ void writeExploreSummary(const ExploreSummary& s, const std::string& path)
     << s.planner_model << "\",\n  \"steps\": " << s.steps
     << ",\n  \"stops\": " << s.stops << ",\n  \"flagged_stops\": " << s.flagged_stops
     << ",\n  \"relocalized_stops\": " << s.relocalized_stops
+    << ",\n  \"held_stops\": " << s.held_stops << ",\n  \"kept_stops\": " << s.kept_stops
     << ",\n  \"loop_closures\": " << s.loop_closures << ",\n  \"loop_edges\": " << s.loop_edges
     << ",\n  \"loop_max_shift_m\": " << s.loop_max_shift_m
     << ",\n  \"skipped_cameras\": " << s.skipped_cameras << ",\n  \"failed_drives\": " << s.failed_drives
@@ -319,6 +320,8 @@ void ExploreRun::finish()
   {
     s_.flagged_stops += r.flagged;
     s_.relocalized_stops += r.relocalized;
+    s_.held_stops += r.held;
+    s_.kept_stops += r.odometry_kept;
     for (const auto& i : r.camera_issues) s_.skipped_cameras += i.skipped;
   }
   const auto clear =

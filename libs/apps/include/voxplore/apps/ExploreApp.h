@@ -62,6 +62,8 @@ struct ExploreSummary
   std::size_t stops = 0;           ///< scan stops (SlamIcp calls)
   std::size_t flagged_stops = 0;   ///< stops whose ICP was rejected (pose from odometry, kept out of the maps)
   std::size_t relocalized_stops = 0;  ///< stops found again after a rejected ICP (odometry jump)
+  std::size_t held_stops = 0;      ///< stops whose large, unsure correction was held ([icp] hold_sigmas; counted in flagged_stops too)
+  std::size_t kept_stops = 0;      ///< stops that kept their odometry prediction ([icp] keep_fitting_prediction)
   std::size_t loop_closures = 0;   ///< loops closed (confirmed, graph relaxed; [loop_closure])
   std::size_t loop_edges = 0;      ///< loop edges in the pose graph (closures and consistent revisits)
   double loop_max_shift_m = 0;     ///< the largest keyframe shift of any relaxation [m]
