@@ -403,20 +403,37 @@ TEST(FootprintSpace, UnknownBesideTheSweptPathDoesNotCloseIt)
   EXPECT_TRUE(reachedAt(pl, -2.0, 0.0));
 }
 
-TEST(FootprintPlanner, TheFootprintModelExploresTheRoomBehindTheDoorTheCircleCannot)
+namespace
 {
-  // plan() with model = footprint on an OcTree: a known room, a 0.9 m door,
-  // and unknown beyond it: the frontier is the door, the plan goes through it.
-  octomap::OcTree t(kRes);
+/// A known room (x in [-3, 0)), a 0.9 m door at x = 0 seen a little beyond,
+/// and unknown past it: the door is the frontier.
+void addRoomWithADoorToUnknown(octomap::OcTree& t)
+{
   voxplore::test::addRoom(t, -3.0, 0.0, -1.5, 1.5);
   voxplore::test::setColumns(t, 0.0, 0.6, -0.45, 0.45, false);  // the door, seen a little beyond
   voxplore::test::setColumns(t, 0.0, 0.6, -0.50, -0.45, true);    // its jambs
   voxplore::test::setColumns(t, 0.0, 0.6, 0.45, 0.50, true);
+}
+
+/// The omniRob's footprint model, nearest strategy, at the default stand-off.
+PlannerParams omniRobNearest()
+{
   PlannerParams p;
   p.collision = omniRob();
   p.projection.footprint_length_m = kLength;
   p.projection.footprint_width_m = kWidth;
   p.strategy = Strategy::NearestFrontier;
+  return p;
+}
+}  // namespace
+
+TEST(FootprintPlanner, TheFootprintModelExploresTheRoomBehindTheDoorTheCircleCannot)
+{
+  // plan() with model = footprint on an OcTree: a known room, a 0.9 m door,
+  // and unknown beyond it: the frontier is the door, the plan goes through it.
+  octomap::OcTree t(kRes);
+  addRoomWithADoorToUnknown(t);
+  PlannerParams p = omniRobNearest();
   p.sampling.view_standoff_m = 0;  // the thesis' nearest target: at the frontier
   const CPose2D robot(-1.5, 0.0, M_PI / 2);
   const PlanResult r = plan(t, robot, p);
@@ -447,6 +464,41 @@ TEST(FootprintPlanner, TheFootprintModelExploresTheRoomBehindTheDoorTheCircleCan
   circle.collision.model = CollisionParams::Model::Circle;
   const PlanResult rc = plan(t, robot, circle);
   EXPECT_FALSE(rc.ok() && rc.target.x() > -0.7) << rc.message;
+}
+
+TEST(FootprintPlanner, ANearestStandOffThatDidNotClearItsFrontierIsApproached)
+{
+  // b12 omniRob nearest: the view stand-off stood in the corridor and saw a
+  // 0.99 m door's room at a slant, twice; the frontier was blacklisted and
+  // the room never entered (coverage 0.920). A frontier planned before
+  // (in `approach`) is approached as next-best-view's are: the target is its
+  // nearest reachable cell, at the door.
+  octomap::OcTree t(kRes);
+  addRoomWithADoorToUnknown(t);
+  const PlannerParams p = omniRobNearest();
+  ASSERT_GT(p.sampling.view_standoff_m, 0);
+  const CPose2D robot(-1.5, 0.0, M_PI / 2);
+  const PlanResult viewed = plan(t, robot, p);
+  ASSERT_TRUE(viewed.ok()) << viewed.message;
+  ASSERT_TRUE(viewed.frontier);
+  EXPECT_FALSE(viewed.approached);
+  const auto fromFrontier = [&](const PlanResult& r)
+  {
+    double d = std::numeric_limits<double>::infinity();
+    for (const Cell& c : viewed.frontier->cells)
+      d = std::min(d, (cellCenter(r.space->state, c) - Eigen::Vector2d(r.target.x(), r.target.y())).norm());
+    return d;
+  };
+  EXPECT_GE(fromFrontier(viewed), 1.5 - kRes) << "the stand-off";
+  const PlanResult approached = plan(t, robot, p, {}, 0, {}, {}, {viewed.frontier->center});
+  ASSERT_TRUE(approached.ok()) << approached.message;
+  EXPECT_TRUE(approached.approached);
+  EXPECT_LT(fromFrontier(approached), 0.6) << "at the door";
+  EXPECT_GT(approached.target.x(), -0.7) << "at the door";
+  // A frontier elsewhere in the approach list changes nothing.
+  const PlanResult other = plan(t, robot, p, {}, 0, {}, {}, {Eigen::Vector2d(-2.5, 1.2)});
+  EXPECT_FALSE(other.approached);
+  EXPECT_NEAR(other.target.x(), viewed.target.x(), 1e-9);
 }
 
 TEST(FootprintSpace, ARobotBoxedInADoorOneBinOffItsWayInTurnsBackOntoIt)

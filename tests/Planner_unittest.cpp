@@ -290,7 +290,8 @@ TEST(Planner, AReplannedFrontierIsApproachedNotViewedAgain)
   EXPECT_TRUE(approached.approached);
   const Eigen::Vector2d t2(approached.target.x(), approached.target.y());
   EXPECT_LT((t2 - fc).norm(), 0.6) << t2.transpose();
-  // The nearest strategy is not affected (its target is the nearest cell anyway).
+  // The nearest strategy with the circle is not affected (its target is the
+  // nearest cell anyway; the footprint's view stand-off is: FootprintPlanning).
   PlannerParams nearest = params();
   nearest.strategy = Strategy::NearestFrontier;
   EXPECT_FALSE(plan(V, robot, nearest, {}, 0, {}, {}, {fc}).approached);

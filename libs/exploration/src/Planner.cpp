@@ -358,9 +358,16 @@ PlanResult plan(
       r.message = os.str();
       break;
     }
+    // Approached: next-best-view's rated views, and the nearest strategy's
+    // view stand-off (footprint model), give way to the frontier's nearest
+    // reachable cell once a view did not clear it (b12 omniRob nearest: a
+    // stand-off in the corridor saw a 0.99 m door's room at a slant twice,
+    // the frontier was blacklisted and the room never entered).
+    const bool views_from_afar = p.strategy == Strategy::NextBestView ||
+                                 (r.footprint && p.sampling.view_standoff_m > 0);
     const auto approached = [&](std::size_t i) {
       const Eigen::Vector2d fc = fm->frontiers[i].center;
-      return p.strategy == Strategy::NextBestView &&
+      return views_from_afar &&
              std::any_of(approach.begin(), approach.end(), [&](const Eigen::Vector2d& a) {
                return (a - fc).norm() <= p.sampling.blacklist_radius_m;
              });

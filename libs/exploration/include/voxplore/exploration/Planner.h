@@ -115,7 +115,7 @@ struct PlanResult
   /// One per frontier: its room (the room most of its cells lie in; -1: none).
   std::vector<int32_t> frontier_rooms;
   std::vector<Cell> sample_space;
-  bool approached = false;  ///< next-best-view: the chosen frontier was approached (plan()'s `approach`)
+  bool approached = false;  ///< the chosen frontier was approached (plan()'s `approach`)
   /// frontier_order = tour (next-best-view): the tour over the tier the
   /// chosen frontier was taken from (empty otherwise).
   FrontierTour tour;
@@ -130,10 +130,11 @@ struct PlanResult
 /// @param sensed_obstacles points (map frame) the driver sensed in the way
 ///        that V may not hold (below the projection's z_min, a pose error):
 ///        their cells of G are Occupied (not the robot's own)
-/// @param approach next-best-view: a frontier whose centre lies within
+/// @param approach next-best-view and the nearest strategy's view stand-off
+///        (footprint model): a frontier whose centre lies within
 ///        blacklist_radius_m of one of these (planned before, and its view
 ///        did not clear it) is approached instead: the target is its
-///        nearest reachable cell, as the nearest strategy's
+///        nearest reachable cell, the thesis' nearest target
 /// @param low_obstacles cells of V's low obstacles (OctoMapLayer::
 ///        lowObstacles(), below the projection's z_min): those G holds Free
 ///        become Occupied, unless one of their 8 neighbours is Occupied by

@@ -99,8 +99,9 @@ struct ExplorationLoopParams : public mrpt::config::CLoadableOptions
   int max_failures_per_target = 2;  ///< failed drives towards one frontier before it is blacklisted
   int max_plans_per_target = 0;     ///< plans for one frontier before it is blacklisted; 0 = no limit (a frontier explored a little at every step, e.g. down a corridor, is planned many times)
   double min_progress_m = 0.05;     ///< a step that moves the robot less than this counts as a failed drive [m]
-  /// Next-best-view: a frontier planned before (max_plans_per_target > 0
-  /// counts plans) is approached at its next plan: the target is its nearest
+  /// Next-best-view, and the nearest strategy's view stand-off (footprint
+  /// model): a frontier planned before (max_plans_per_target > 0 counts
+  /// plans) is approached at its next plan: the target is its nearest
   /// reachable cell, not a view 1-3 m off (exploration::plan's `approach`).
   bool approach_replanned = true;
   /// Stagnation (issue 12): the run ends ("stagnation") when the free floor
