@@ -28,6 +28,7 @@ using voxplore::mapping::IcpParams;
 using voxplore::mapping::IcpResult;
 using voxplore::mapping::LoopCloser;
 using voxplore::mapping::LoopClosureParams;
+using voxplore::test::readCsv;
 
 namespace
 {
@@ -287,29 +288,6 @@ TEST(LoopClosure, BadKeysAreNamed)
 
 // End to end: a simulated drive round the ring corridor of a generated
 // building (seed 2, a 94 m loop), replayed with loop closure on.
-
-namespace
-{
-std::vector<std::map<std::string, std::string>> readCsv(const std::string& path)
-{
-  std::ifstream f(path);
-  std::string line;
-  std::getline(f, line);
-  std::vector<std::string> head;
-  std::stringstream hs(line);
-  for (std::string c; std::getline(hs, c, ',');) head.push_back(c);
-  std::vector<std::map<std::string, std::string>> rows;
-  while (std::getline(f, line))
-  {
-    std::stringstream ls(line);
-    std::map<std::string, std::string> row;
-    std::size_t i = 0;
-    for (std::string c; i < head.size() && std::getline(ls, c, ','); i++) row[head[i]] = c;
-    rows.push_back(row);
-  }
-  return rows;
-}
-}  // namespace
 
 TEST(LoopClosure, RingCorridorReplayClosesTheLoopAndCorrectsEveryOutput)
 {

@@ -11,7 +11,10 @@
 #include <filesystem>
 #include <fstream>
 #include <iterator>
+#include <map>
+#include <sstream>
 #include <string>
+#include <vector>
 
 namespace voxplore::test
 {
@@ -39,6 +42,28 @@ inline std::string readFile(const std::string& path)
 
 /// @brief A .simplemap (plain or gzip) as MRPT loads it.
 /// @throws std::exception from MRPT on a bad file.
+/// The rows of a CSV file with a header line (stops.csv, coverage.csv), each
+/// as column name -> text; no quoting (our CSVs have none).
+inline std::vector<std::map<std::string, std::string>> readCsv(const std::string& path)
+{
+  std::ifstream f(path);
+  std::string line;
+  std::getline(f, line);
+  std::vector<std::string> head;
+  std::stringstream hs(line);
+  for (std::string c; std::getline(hs, c, ',');) head.push_back(c);
+  std::vector<std::map<std::string, std::string>> rows;
+  while (std::getline(f, line))
+  {
+    std::stringstream ls(line);
+    std::map<std::string, std::string> row;
+    std::size_t i = 0;
+    for (std::string c; i < head.size() && std::getline(ls, c, ','); i++) row[head[i]] = c;
+    rows.push_back(row);
+  }
+  return rows;
+}
+
 inline mrpt::maps::CSimpleMap loadSimplemap(const std::string& path)
 {
   mrpt::maps::CSimpleMap sm;

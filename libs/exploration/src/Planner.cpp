@@ -147,6 +147,13 @@ struct Candidate
   double utility = 0;
 };
 
+/// The nearest strategy's target views its frontier from the stand-off
+/// (footprint model, SamplingParams::view_standoff_m), not from the frontier.
+bool nearestStandsOff(const PlanResult& r, const PlannerParams& p)
+{
+  return r.footprint && p.sampling.view_standoff_m > 0;
+}
+
 /// The candidate poses for frontier fi, appended to `out`: the nearest
 /// strategy's (or an approached frontier's) goal, or next-best-view's rated
 /// samples with a gain, whose utility is gain x exp(-travel_cost_per_m x
@@ -160,7 +167,7 @@ std::optional<SkipReason> candidatesFor(
   if (p.strategy == Strategy::NearestFrontier || approach)
   {
     std::optional<Eigen::Vector2d> goal;
-    if (r.footprint && p.sampling.view_standoff_m > 0 && !approach)
+    if (nearestStandsOff(r, p) && !approach)
       goal = standoffGoal(*r.ground, *r.space, *r.frontiers, f, p.sampling);
     if (!goal) goal = nearestReachable(*r.frontiers, f.centroid);
     if (!goal) return SkipReason::NoGoal;
@@ -363,8 +370,7 @@ PlanResult plan(
     // reachable cell once a view did not clear it (b12 omniRob nearest: a
     // stand-off in the corridor saw a 0.99 m door's room at a slant twice,
     // the frontier was blacklisted and the room never entered).
-    const bool views_from_afar = p.strategy == Strategy::NextBestView ||
-                                 (r.footprint && p.sampling.view_standoff_m > 0);
+    const bool views_from_afar = p.strategy == Strategy::NextBestView || nearestStandsOff(r, p);
     const auto approached = [&](std::size_t i) {
       const Eigen::Vector2d fc = fm->frontiers[i].center;
       return views_from_afar &&
