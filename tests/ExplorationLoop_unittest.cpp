@@ -436,3 +436,45 @@ TEST(ExplorationLoop, ARunThatFindsNoNewFloorEndsWithStagnation)
                                  setup.driver, setup.loop);
   EXPECT_NE(loop2.run().termination_reason, "stagnation");
 }
+
+TEST(ExplorationLoop, StagnationOverThePathWaitsForTheWindowToBeDriven)
+{
+  // The path window: with a gain no drive can reach, the run ends
+  // "stagnation" at the first planning step after the robot has driven the
+  // window (not before: a robot standing at a door fills no window), with
+  // the frontiers left reported.
+  RobotSetup setup;
+  setup.loop.stagnation_path_m = 1.5;
+  setup.loop.stagnation_path_min_gain_m2 = 1000.0;
+  setup.loop.max_steps = 30;
+  struct Paths : mission::Listener
+  {
+    std::vector<double> paths;  // path_length_m at each planning step
+    void onPlan(const exploration::PlanResult&, double,
+                const mission::ExplorationStatus& s) override
+    {
+      paths.push_back(s.path_length_m);
+    }
+  } listener;
+  DiscRobot robot(twoRooms(), mrpt::poses::CPose2D(2.0, 2.0, 0.0), setup.radius_m);
+  BoxCameras cameras(robot, setup.mounts);
+  mission::ExplorationLoop loop(robot, cameras, robot, setup.slam, setup.planner, setup.driver,
+                                setup.loop, &listener);
+  const auto& paths = listener.paths;
+  const auto& status = loop.run();
+  ASSERT_EQ(status.termination_reason, "stagnation");
+  ASSERT_GE(paths.size(), 2u);
+  EXPECT_GE(paths.back(), 1.5);  // the window was driven ...
+  EXPECT_LT(paths[paths.size() - 2], 1.5);  // ... and the step before had not
+  EXPECT_FALSE(status.frontiers_left.empty());
+  // A window longer than the run never fills: the rule does not fire,
+  // whatever gain it asks for.
+  setup.loop.stagnation_path_m = 1000.0;
+  setup.loop.stagnation_path_min_gain_m2 = 1000.0;
+  setup.loop.max_steps = 4;
+  DiscRobot robot2(twoRooms(), mrpt::poses::CPose2D(2.0, 2.0, 0.0), setup.radius_m);
+  BoxCameras cameras2(robot2, setup.mounts);
+  mission::ExplorationLoop loop2(robot2, cameras2, robot2, setup.slam, setup.planner,
+                                 setup.driver, setup.loop);
+  EXPECT_NE(loop2.run().termination_reason, "stagnation");
+}

@@ -184,6 +184,7 @@ void ExploreRun::onPlan(const exploration::PlanResult& plan, double plan_ms,
                         const mission::ExplorationStatus& status)
 {
   s_.steps = status.steps;
+  s_.known_floor_m2 = status.known_floor_m2;  // coverage.csv's known_floor_m2 (G's free floor)
   const double coverage = plan.ground ? coverageOf(*plan.ground) : 0.0;
   const double coverage_planner =
       plan.ground

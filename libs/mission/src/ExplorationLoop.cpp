@@ -49,10 +49,15 @@ void ExplorationLoopParams::loadFromConfigFile(const mrpt::config::CConfigFileBa
   MRPT_LOAD_CONFIG_VAR(approach_replanned, bool, c, s);
   MRPT_LOAD_CONFIG_VAR(stagnation_steps, int, c, s);
   MRPT_LOAD_CONFIG_VAR(stagnation_min_gain_m2, double, c, s);
+  MRPT_LOAD_CONFIG_VAR(stagnation_path_m, double, c, s);
+  MRPT_LOAD_CONFIG_VAR(stagnation_path_min_gain_m2, double, c, s);
   MRPT_LOAD_CONFIG_VAR(cut_off_replan_m2, double, c, s);
   common::requireValid(cut_off_replan_m2 >= 0, c, s, "cut_off_replan_m2", "must be >= 0");
   common::requireValid(stagnation_steps >= 0, c, s, "stagnation_steps", "must be >= 0");
   common::requireValid(stagnation_min_gain_m2 >= 0, c, s, "stagnation_min_gain_m2", "must be >= 0");
+  common::requireValid(stagnation_path_m >= 0, c, s, "stagnation_path_m", "must be >= 0");
+  common::requireValid(stagnation_path_min_gain_m2 >= 0, c, s, "stagnation_path_min_gain_m2",
+                       "must be >= 0");
   common::requireValid(max_steps >= 0, c, s, "max_steps", "must be >= 0");
   common::requireValid(max_sim_time_s > 0, c, s, "max_sim_time_s", "must be > 0");
   common::requireValid(max_plans_per_target >= 0, c, s, "max_plans_per_target", "must be >= 0");
@@ -72,6 +77,8 @@ void ExplorationLoopParams::saveToConfigFile(mrpt::config::CConfigFileBase& c,
   MRPT_SAVE_CONFIG_VAR(approach_replanned, c, s);
   MRPT_SAVE_CONFIG_VAR(stagnation_steps, c, s);
   MRPT_SAVE_CONFIG_VAR(stagnation_min_gain_m2, c, s);
+  MRPT_SAVE_CONFIG_VAR(stagnation_path_m, c, s);
+  MRPT_SAVE_CONFIG_VAR(stagnation_path_min_gain_m2, c, s);
   MRPT_SAVE_CONFIG_VAR(cut_off_replan_m2, c, s);
 }
 
@@ -225,15 +232,7 @@ void ExplorationLoop::loop()
       noteCutOff(cut_off_m2);
       return;
     }
-    if (const auto gain = stagnationGain(); gain && *gain < params_.stagnation_min_gain_m2)
-    {
-      status_.termination_reason = "stagnation";
-      message(mrpt::format("stagnation: %.1f m^2 of floor found in the last %d steps (< %.1f); "
-                           "%zu frontier(s) left",
-                           *gain, params_.stagnation_steps, params_.stagnation_min_gain_m2,
-                           status_.frontiers_left.size()));
-      return;
-    }
+    if (stagnated()) return;
     // A frontier planned again and again without disappearing (an unseeable
     // hole, a target the robot already stands on) is given up, and a step
     // that does not move the robot counts as a failed drive.

@@ -77,6 +77,7 @@ void ExplorationLoop::noteFrontiers(const exploration::PlanResult& plan)
   if (!plan.ground) return;
   status_.known_floor_m2 = knownFloorM2(*plan.ground);
   known_floor_.push_back(status_.known_floor_m2);
+  path_at_plan_.push_back(status_.path_length_m);
 }
 
 std::optional<double> ExplorationLoop::stagnationGain() const
@@ -84,6 +85,45 @@ std::optional<double> ExplorationLoop::stagnationGain() const
   const auto k = static_cast<std::size_t>(params_.stagnation_steps);
   if (k == 0 || known_floor_.size() <= k) return std::nullopt;
   return known_floor_.back() - known_floor_[known_floor_.size() - 1 - k];
+}
+
+std::optional<double> ExplorationLoop::pathStagnationGain() const
+{
+  const double window = params_.stagnation_path_m;
+  if (window <= 0 || path_at_plan_.size() < 2) return std::nullopt;
+  // The latest earlier step at least `window` metres of driving back.
+  const double back = path_at_plan_.back() - window;
+  const auto it = std::upper_bound(path_at_plan_.begin(), path_at_plan_.end() - 1, back);
+  if (it == path_at_plan_.begin()) return std::nullopt;
+  const auto j = static_cast<std::size_t>(std::distance(path_at_plan_.begin(), it) - 1);
+  return known_floor_.back() - known_floor_[j];
+}
+
+bool ExplorationLoop::stagnated()
+{
+  const auto left = [&] {
+    double m = 0;
+    for (const auto& f : status_.frontiers_left) m += f.second;
+    return mrpt::format("%zu frontier(s) left, %.1f m", status_.frontiers_left.size(), m);
+  };
+  if (const auto gain = stagnationGain(); gain && *gain < params_.stagnation_min_gain_m2)
+  {
+    status_.termination_reason = "stagnation";
+    message(mrpt::format("stagnation: %.1f m^2 of floor found in the last %d steps (< %.1f); ",
+                         *gain, params_.stagnation_steps, params_.stagnation_min_gain_m2) +
+            left());
+    return true;
+  }
+  if (const auto gain = pathStagnationGain(); gain && *gain < params_.stagnation_path_min_gain_m2)
+  {
+    status_.termination_reason = "stagnation";
+    message(mrpt::format("stagnation: %.1f m^2 of floor found over the last %.0f m driven "
+                         "(< %.1f); ",
+                         *gain, params_.stagnation_path_m, params_.stagnation_path_min_gain_m2) +
+            left());
+    return true;
+  }
+  return false;
 }
 
 }  // namespace voxplore::mission

@@ -110,6 +110,14 @@ struct ExplorationLoopParams : public mrpt::config::CLoadableOptions
   /// again and again); 0 = never.
   int stagnation_steps = 0;  ///< off by default: 20 cut b13 nbv (omniRob) from 0.843 to 0.594
   double stagnation_min_gain_m2 = 2.0;  ///< [m^2]
+  /// Stagnation over the path (issue 12): the run ends ("stagnation") when
+  /// the free floor known in G grew by less than stagnation_path_min_gain_m2
+  /// while the robot drove the last stagnation_path_m metres. A window of
+  /// metres, not steps: a robot failing at a door or a small world never
+  /// fills it, and a long drive to an unexplored wing is shorter than it.
+  /// 0 = never [m].
+  double stagnation_path_m = 0;
+  double stagnation_path_min_gain_m2 = 2.0;  ///< [m^2]
   /// Shut in (issue 12): when the planner finds nothing to do while at least
   /// this much known free floor, and more than half of it, is cut off from
   /// the robot (exploration::cutOffFloorM2), it plans once more trusting the swept
@@ -247,6 +255,12 @@ class ExplorationLoop
   /// The free floor found over the last stagnation_steps planning steps
   /// [m^2]; empty when the rule is off or the run is not that long yet.
   std::optional<double> stagnationGain() const;
+  /// The free floor found while the robot drove the last stagnation_path_m
+  /// metres [m^2]; empty when the rule is off or the path is not that long yet.
+  std::optional<double> pathStagnationGain() const;
+  /// The end of a run that stopped finding floor: "stagnation" and a message
+  /// saying what is left; false while the run goes on.
+  bool stagnated();
   void onRobotStep();
   void message(const std::string& line);
   /// The listener's stop reason, max_steps (only `between_steps`), or the
@@ -271,6 +285,7 @@ class ExplorationLoop
   TargetCounts plans_;     ///< plans so far per frontier
   exploration::SweptPath swept_;
   std::vector<double> known_floor_;  ///< known_floor_m2 at each planning step
+  std::vector<double> path_at_plan_;  ///< path_length_m at each planning step [m]
   /// Points drives were blocked by that the map may not hold (map frame).
   std::vector<Eigen::Vector2d> sensed_obstacles_;
   ExplorationStatus status_;
