@@ -1,6 +1,6 @@
 /* voxplore — the stamp of the robot's rectangle over yaw bins: which bins an
  * obstacle cell at each offset blocks, and stamping it round obstacle cells
- * (issue 13). Internal to libs/exploration (footprint_space.cpp). */
+ * (issue 13). Internal to libs/exploration (footprint_space.cpp, footprint_reach.cpp). */
 #pragma once
 
 #include <voxplore/exploration/footprint.h>
