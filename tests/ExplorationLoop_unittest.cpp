@@ -408,21 +408,31 @@ TEST(ExplorationLoop, AScanSourceErrorPropagatesAndTheStopsSoFarStay)
 
 }  // namespace
 
-TEST(ExplorationLoop, ARunThatFindsNoNewFloorEndsWithStagnation)
+namespace
 {
-  // The stagnation rule: with a gain no step can reach (1,000 m^2 over 2
-  // steps) the run ends at the third planning step, by itself, the robot
-  // standing, the frontiers left reported. (Off by default: 20 steps cut a
-  // building run short; ExploresTwoRoomsWithARobotOutsideTheSimulator ends
-  // by "no frontier".)
-  RobotSetup setup;
-  setup.loop.stagnation_steps = 2;
-  setup.loop.stagnation_min_gain_m2 = 1000.0;
+/// A run of the disc robot in twoRooms() from (2, 2) with `setup`.
+mission::ExplorationStatus exploreTwoRooms(const RobotSetup& setup,
+                                           mission::Listener* listener = nullptr)
+{
   DiscRobot robot(twoRooms(), mrpt::poses::CPose2D(2.0, 2.0, 0.0), setup.radius_m);
   BoxCameras cameras(robot, setup.mounts);
   mission::ExplorationLoop loop(robot, cameras, robot, setup.slam, setup.planner, setup.driver,
-                                setup.loop);
-  const auto& status = loop.run();
+                                setup.loop, listener);
+  return loop.run();
+}
+}  // namespace
+
+TEST(ExplorationLoop, ARunThatFindsNoNewFloorEndsWithStagnation)
+{
+  // The stagnation rule over steps: with a gain no step can reach (1,000 m^2
+  // over 2 steps) the run ends at the third planning step, by itself, the
+  // robot standing, the frontiers left reported. (Off by default: 20 steps
+  // cut a building run short; ExploresTwoRoomsWithARobotOutsideTheSimulator
+  // ends by "no frontier".)
+  RobotSetup setup;
+  setup.loop.stagnation_steps = 2;
+  setup.loop.stagnation_min_gain_m2 = 1000.0;
+  const auto status = exploreTwoRooms(setup);
   EXPECT_EQ(status.termination_reason, "stagnation");
   EXPECT_EQ(status.steps, 3u);
   EXPECT_GT(status.known_floor_m2, 1.0);
@@ -430,11 +440,7 @@ TEST(ExplorationLoop, ARunThatFindsNoNewFloorEndsWithStagnation)
   // Off (0): the same run goes on past the third step.
   setup.loop.stagnation_steps = 0;
   setup.loop.max_steps = 4;
-  DiscRobot robot2(twoRooms(), mrpt::poses::CPose2D(2.0, 2.0, 0.0), setup.radius_m);
-  BoxCameras cameras2(robot2, setup.mounts);
-  mission::ExplorationLoop loop2(robot2, cameras2, robot2, setup.slam, setup.planner,
-                                 setup.driver, setup.loop);
-  EXPECT_NE(loop2.run().termination_reason, "stagnation");
+  EXPECT_NE(exploreTwoRooms(setup).termination_reason, "stagnation");
 }
 
 TEST(ExplorationLoop, StagnationOverThePathWaitsForTheWindowToBeDriven)
@@ -456,12 +462,8 @@ TEST(ExplorationLoop, StagnationOverThePathWaitsForTheWindowToBeDriven)
       paths.push_back(s.path_length_m);
     }
   } listener;
-  DiscRobot robot(twoRooms(), mrpt::poses::CPose2D(2.0, 2.0, 0.0), setup.radius_m);
-  BoxCameras cameras(robot, setup.mounts);
-  mission::ExplorationLoop loop(robot, cameras, robot, setup.slam, setup.planner, setup.driver,
-                                setup.loop, &listener);
+  const auto status = exploreTwoRooms(setup, &listener);
   const auto& paths = listener.paths;
-  const auto& status = loop.run();
   ASSERT_EQ(status.termination_reason, "stagnation");
   ASSERT_GE(paths.size(), 2u);
   EXPECT_GE(paths.back(), 1.5);  // the window was driven ...
@@ -470,11 +472,6 @@ TEST(ExplorationLoop, StagnationOverThePathWaitsForTheWindowToBeDriven)
   // A window longer than the run never fills: the rule does not fire,
   // whatever gain it asks for.
   setup.loop.stagnation_path_m = 1000.0;
-  setup.loop.stagnation_path_min_gain_m2 = 1000.0;
   setup.loop.max_steps = 4;
-  DiscRobot robot2(twoRooms(), mrpt::poses::CPose2D(2.0, 2.0, 0.0), setup.radius_m);
-  BoxCameras cameras2(robot2, setup.mounts);
-  mission::ExplorationLoop loop2(robot2, cameras2, robot2, setup.slam, setup.planner,
-                                 setup.driver, setup.loop);
-  EXPECT_NE(loop2.run().termination_reason, "stagnation");
+  EXPECT_NE(exploreTwoRooms(setup).termination_reason, "stagnation");
 }
