@@ -257,12 +257,15 @@ class BoxCameras : public mission::ScanSource
 struct CountingListener : mission::Listener
 {
   std::size_t scans = 0, stops = 0, plans = 0, robot_steps = 0;
+  std::vector<double> plan_paths;  ///< path_length_m at each plan [m]
   std::optional<std::size_t> stop_after_robot_steps;
   void onScan(const mission::Scan&) override { scans++; }
   void onStop(const mission::Scan&, const mapping::StopReport&) override { stops++; }
-  void onPlan(const exploration::PlanResult&, double, const mission::ExplorationStatus&) override
+  void onPlan(const exploration::PlanResult&, double,
+              const mission::ExplorationStatus& status) override
   {
     plans++;
+    plan_paths.push_back(status.path_length_m);
   }
   void onRobotStep() override { robot_steps++; }
   std::string stopReason() override
@@ -298,6 +301,17 @@ struct RobotSetup
     loop.max_steps = 40;
   }
 };
+
+/// A run of the disc robot in twoRooms() from (2, 2) with `setup`.
+mission::ExplorationStatus exploreTwoRooms(const RobotSetup& setup,
+                                           mission::Listener* listener = nullptr)
+{
+  DiscRobot robot(twoRooms(), mrpt::poses::CPose2D(2.0, 2.0, 0.0), setup.radius_m);
+  BoxCameras cameras(robot, setup.mounts);
+  mission::ExplorationLoop loop(robot, cameras, robot, setup.slam, setup.planner, setup.driver,
+                                setup.loop, listener);
+  return loop.run();
+}
 
 TEST(ExplorationLoop, ExploresTwoRoomsWithARobotOutsideTheSimulator)
 {
@@ -375,11 +389,7 @@ TEST(ExplorationLoop, TheTimeLimitHoldsOnTheGivenClock)
 {
   RobotSetup setup;
   setup.loop.max_sim_time_s = 20.0;
-  DiscRobot robot(twoRooms(), mrpt::poses::CPose2D(2.0, 2.0, 0.0), setup.radius_m);
-  BoxCameras cameras(robot, setup.mounts);
-  mission::ExplorationLoop loop(robot, cameras, robot, setup.slam, setup.planner, setup.driver,
-                                setup.loop);
-  const auto& status = loop.run();
+  const auto status = exploreTwoRooms(setup);
   EXPECT_EQ(status.termination_reason, "max_sim_time");
   EXPECT_GE(status.elapsed_s, 20.0);
   EXPECT_LT(status.elapsed_s, 20.5);  // within a robot step or a scan of the limit
@@ -406,20 +416,6 @@ TEST(ExplorationLoop, AScanSourceErrorPropagatesAndTheStopsSoFarStay)
   EXPECT_EQ(loop.slam().numStops(), 2u);
 }
 
-}  // namespace
-
-namespace
-{
-/// A run of the disc robot in twoRooms() from (2, 2) with `setup`.
-mission::ExplorationStatus exploreTwoRooms(const RobotSetup& setup,
-                                           mission::Listener* listener = nullptr)
-{
-  DiscRobot robot(twoRooms(), mrpt::poses::CPose2D(2.0, 2.0, 0.0), setup.radius_m);
-  BoxCameras cameras(robot, setup.mounts);
-  mission::ExplorationLoop loop(robot, cameras, robot, setup.slam, setup.planner, setup.driver,
-                                setup.loop, listener);
-  return loop.run();
-}
 }  // namespace
 
 TEST(ExplorationLoop, ARunThatFindsNoNewFloorEndsWithStagnation)
@@ -453,17 +449,9 @@ TEST(ExplorationLoop, StagnationOverThePathWaitsForTheWindowToBeDriven)
   setup.loop.stagnation_path_m = 1.5;
   setup.loop.stagnation_path_min_gain_m2 = 1000.0;
   setup.loop.max_steps = 30;
-  struct Paths : mission::Listener
-  {
-    std::vector<double> paths;  // path_length_m at each planning step
-    void onPlan(const exploration::PlanResult&, double,
-                const mission::ExplorationStatus& s) override
-    {
-      paths.push_back(s.path_length_m);
-    }
-  } listener;
-  const auto status = exploreTwoRooms(setup, &listener);
-  const auto& paths = listener.paths;
+  CountingListener events;
+  const auto status = exploreTwoRooms(setup, &events);
+  const auto& paths = events.plan_paths;
   ASSERT_EQ(status.termination_reason, "stagnation");
   ASSERT_GE(paths.size(), 2u);
   EXPECT_GE(paths.back(), 1.5);  // the window was driven ...

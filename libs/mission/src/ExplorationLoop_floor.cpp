@@ -5,6 +5,7 @@
 #include <voxplore/mission/ExplorationLoop.h>
 
 #include <algorithm>
+#include <string>
 
 namespace voxplore::mission
 {
@@ -101,29 +102,20 @@ std::optional<double> ExplorationLoop::pathStagnationGain() const
 
 bool ExplorationLoop::stagnated()
 {
-  const auto left = [&] {
-    double m = 0;
-    for (const auto& f : status_.frontiers_left) m += f.second;
-    return mrpt::format("%zu frontier(s) left, %.1f m", status_.frontiers_left.size(), m);
-  };
+  std::string why;
   if (const auto gain = stagnationGain(); gain && *gain < params_.stagnation_min_gain_m2)
-  {
-    status_.termination_reason = "stagnation";
-    message(mrpt::format("stagnation: %.1f m^2 of floor found in the last %d steps (< %.1f); ",
-                         *gain, params_.stagnation_steps, params_.stagnation_min_gain_m2) +
-            left());
-    return true;
-  }
-  if (const auto gain = pathStagnationGain(); gain && *gain < params_.stagnation_path_min_gain_m2)
-  {
-    status_.termination_reason = "stagnation";
-    message(mrpt::format("stagnation: %.1f m^2 of floor found over the last %.0f m driven "
-                         "(< %.1f); ",
-                         *gain, params_.stagnation_path_m, params_.stagnation_path_min_gain_m2) +
-            left());
-    return true;
-  }
-  return false;
+    why = mrpt::format("%.1f m^2 of floor found in the last %d steps (< %.1f)", *gain,
+                       params_.stagnation_steps, params_.stagnation_min_gain_m2);
+  else if (const auto g = pathStagnationGain(); g && *g < params_.stagnation_path_min_gain_m2)
+    why = mrpt::format("%.1f m^2 of floor found over the last %.0f m driven (< %.1f)", *g,
+                       params_.stagnation_path_m, params_.stagnation_path_min_gain_m2);
+  if (why.empty()) return false;
+  double left_m = 0;
+  for (const auto& f : status_.frontiers_left) left_m += f.second;
+  status_.termination_reason = "stagnation";
+  message(mrpt::format("stagnation: %s; %zu frontier(s) left, %.1f m", why.c_str(),
+                       status_.frontiers_left.size(), left_m));
+  return true;
 }
 
 }  // namespace voxplore::mission
