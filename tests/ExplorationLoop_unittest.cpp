@@ -304,13 +304,17 @@ struct RobotSetup
 
 /// A run of the disc robot in twoRooms() from (2, 2) with `setup`.
 mission::ExplorationStatus exploreTwoRooms(const RobotSetup& setup,
-                                           mission::Listener* listener = nullptr)
+                                           mission::Listener* listener = nullptr,
+                                           std::vector<Box> world = twoRooms(),
+                                           std::size_t* collisions = nullptr)
 {
-  DiscRobot robot(twoRooms(), mrpt::poses::CPose2D(2.0, 2.0, 0.0), setup.radius_m);
+  DiscRobot robot(std::move(world), mrpt::poses::CPose2D(2.0, 2.0, 0.0), setup.radius_m);
   BoxCameras cameras(robot, setup.mounts);
   mission::ExplorationLoop loop(robot, cameras, robot, setup.slam, setup.planner, setup.driver,
                                 setup.loop, listener);
-  return loop.run();
+  const auto status = loop.run();
+  if (collisions) *collisions = robot.collisionCount().value();
+  return status;
 }
 
 TEST(ExplorationLoop, ExploresTwoRoomsWithARobotOutsideTheSimulator)
@@ -462,4 +466,27 @@ TEST(ExplorationLoop, StagnationOverThePathWaitsForTheWindowToBeDriven)
   setup.loop.stagnation_path_m = 1000.0;
   setup.loop.max_steps = 4;
   EXPECT_NE(exploreTwoRooms(setup).termination_reason, "stagnation");
+}
+
+TEST(ExplorationLoop, ALowObstacleSeenOnTheWayEndsTheDrive)
+{
+  // A 5 cm plate the robot's obstacle fan (0.1 m and up) never senses and
+  // the cameras see only from afar (no floor within ~0.9 m of their rim).
+  auto world = twoRooms();
+  // Just past the gap: planned over from the left room, seen only on the way.
+  world.push_back({{6.0, 2.9, 0.0}, {6.5, 3.4, 0.05}});
+  RobotSetup setup;
+  setup.loop.max_steps = 30;
+  std::size_t hits_on = 0, hits_off = 0;
+  const auto on = exploreTwoRooms(setup, nullptr, world, &hits_on);
+  setup.loop.low_obstacle_replan = false;
+  const auto off = exploreTwoRooms(setup, nullptr, world, &hits_off);
+  std::cout << "on: " << hits_on << " collisions, " << on.low_obstacle_replans << " replans, "
+            << on.termination_reason << "; off: " << hits_off << " collisions, "
+            << off.low_obstacle_replans << " replans, " << off.termination_reason << std::endl;
+  EXPECT_EQ(hits_on, 0u);
+  EXPECT_GT(on.low_obstacle_replans, 0u);
+  EXPECT_NE(on.termination_reason, "max_steps");
+  EXPECT_EQ(off.low_obstacle_replans, 0u);
+  EXPECT_GT(hits_off, 0u) << "the plate is not on a path planned before it was seen";
 }

@@ -174,6 +174,56 @@ TEST(Planner, ParamsRoundTripAndErrors)
   EXPECT_THROW(q.load(typo), std::exception);
 }
 
+TEST(Planner, AutoFootprintMarginsFollowTheRobotsWidthAgainstTheDoor)
+{
+  // "auto" margins: exact (whole squares, cell centres) when the rectangle
+  // with a cell lost at each jamb and the centres' spacing fits auto_door_m,
+  // trimmed otherwise. At 5 cm the omniRob needs 0.712 + 0.04 + 0.15 = 0.902
+  // m (> 0.85: trimmed), the compact robot 0.36 + 0.04 + 0.15 = 0.55 m.
+  CollisionParams omni;
+  ASSERT_EQ(omni.footprint_square_share, CollisionParams::kAuto);
+  EXPECT_TRUE(omni.footprintTrimmed(0.05));
+  EXPECT_DOUBLE_EQ(omni.squareShareInForce(0.05), 0.5);
+  EXPECT_DOUBLE_EQ(omni.lateralInForce(0.05), 0.025);
+  CollisionParams compact;
+  compact.footprint_length_m = 0.50;
+  compact.footprint_width_m = 0.36;
+  EXPECT_FALSE(compact.footprintTrimmed(0.05));
+  EXPECT_DOUBLE_EQ(compact.squareShareInForce(0.05), 1.0);
+  EXPECT_DOUBLE_EQ(compact.lateralInForce(0.05), 0.0);
+  // The boundary: a door just narrower than the compact robot needs.
+  compact.auto_door_m = 0.549;
+  EXPECT_TRUE(compact.footprintTrimmed(0.05));
+  // An explicit value wins over auto.
+  omni.footprint_square_share = 1.0;
+  omni.footprint_lateral_m = 0.0;
+  EXPECT_DOUBLE_EQ(omni.squareShareInForce(0.05), 1.0);
+  EXPECT_DOUBLE_EQ(omni.lateralInForce(0.05), 0.0);
+  // The ini: "auto" and numbers round-trip; anything else names the key.
+  mrpt::config::CConfigFileMemory m;
+  m.write("collision", "footprint_square_share", "auto");
+  m.write("collision", "footprint_lateral_m", "0.01");
+  CollisionParams loaded;
+  loaded.loadFromConfigFile(m, "collision");
+  EXPECT_EQ(loaded.footprint_square_share, CollisionParams::kAuto);
+  EXPECT_DOUBLE_EQ(loaded.footprint_lateral_m, 0.01);
+  mrpt::config::CConfigFileMemory saved;
+  loaded.saveToConfigFile(saved, "collision");
+  EXPECT_EQ(saved.read_string("collision", "footprint_square_share", ""), "auto");
+  m.write("collision", "footprint_square_share", "half");
+  try
+  {
+    loaded.loadFromConfigFile(m, "collision");
+    ADD_FAILURE() << "'half' was accepted";
+  }
+  catch (const std::exception& e)
+  {
+    EXPECT_NE(std::string(e.what()).find("footprint_square_share"), std::string::npos) << e.what();
+  }
+  m.write("collision", "footprint_square_share", "1.5");
+  EXPECT_THROW(loaded.loadFromConfigFile(m, "collision"), std::exception);
+}
+
 TEST(Planner, RendersThePlan)
 {
   const auto V = doorRoom();

@@ -229,6 +229,16 @@ ExploreSummary ExploreApp::execute(const ExploreOptions& opts)
                                      "auto_footprint_above_m %.2f m)",
                                      col.plannerCircleDiameter(l_res), col.auto_footprint_above_m)
                       : std::string())
+              << (col.usesFootprint(l_res)
+                      ? mrpt::format("; footprint squares %.2f of a cell, lateral slack %.3f m "
+                                     "(auto: %s, the rectangle with whole squares needs %.3f m, "
+                                     "auto_door_m %.2f m)",
+                                     col.squareShareInForce(l_res), col.lateralInForce(l_res),
+                                     col.footprintTrimmed(l_res) ? "trimmed" : "exact",
+                                     col.footprint_width_m + 2 * col.footprint_margin_m +
+                                         3 * l_res,
+                                     col.auto_door_m)
+                      : std::string())
               << std::endl;
   }
 

@@ -152,7 +152,9 @@ void writeExploreSummary(const ExploreSummary& s, const std::string& path)
     << ",\n  \"loop_max_shift_m\": " << s.loop_max_shift_m
     << ",\n  \"skipped_cameras\": " << s.skipped_cameras << ",\n  \"failed_drives\": " << s.failed_drives
     << ",\n  \"blacklisted\": " << s.blacklisted << ",\n  \"guard_scaled\": " << s.guard_scaled
-    << ",\n  \"guard_held\": " << s.guard_held << ",\n  \"path_length_m\": " << s.path_length_m
+    << ",\n  \"guard_held\": " << s.guard_held
+    << ",\n  \"low_obstacle_replans\": " << s.low_obstacle_replans
+    << ",\n  \"path_length_m\": " << s.path_length_m
     << ",\n  \"known_floor_m2\": " << s.known_floor_m2
     << ",\n  \"known_floor_cut_off_m2\": " << s.known_floor_cut_off_m2 << ",\n  \"frontiers_left_map\": [";
   double left_m = 0;
@@ -283,6 +285,7 @@ void ExploreRun::finish()
   s_.blacklisted = status.blacklisted;
   s_.guard_scaled = status.guard_scaled;
   s_.guard_held = status.guard_held;
+  s_.low_obstacle_replans = status.low_obstacle_replans;
   s_.known_floor_m2 = status.known_floor_m2;
   s_.known_floor_cut_off_m2 = status.known_floor_cut_off_m2;
   s_.frontiers_left.clear();

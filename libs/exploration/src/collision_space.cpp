@@ -166,6 +166,39 @@ CollisionParams::Model CollisionParams::modelInForce(double l_res_m) const
   return plannerCircleDiameter(l_res_m) > auto_footprint_above_m ? Model::Footprint : Model::Circle;
 }
 
+bool CollisionParams::footprintTrimmed(double l_res_m) const
+{
+  return footprint_width_m + 2.0 * footprint_margin_m + 3.0 * l_res_m > auto_door_m;
+}
+
+double CollisionParams::squareShareInForce(double l_res_m) const
+{
+  if (footprint_square_share != kAuto) return footprint_square_share;
+  return footprintTrimmed(l_res_m) ? 0.5 : 1.0;
+}
+
+double CollisionParams::lateralInForce(double l_res_m) const
+{
+  if (footprint_lateral_m != kAuto) return footprint_lateral_m;
+  return footprintTrimmed(l_res_m) ? 0.5 * l_res_m : 0.0;
+}
+
+namespace
+{
+/// A number, or "auto" (CollisionParams::kAuto).
+double readAutoOrNumber(const mrpt::config::CConfigFileBase& c, const std::string& s,
+                        const std::string& key, double current)
+{
+  if (c.read_string(s, key, "") == "auto") return CollisionParams::kAuto;
+  return common::readDoubleStrict(c, s, key, current);
+}
+
+std::string autoOrNumber(double v)
+{
+  return v == CollisionParams::kAuto ? std::string("auto") : mrpt::format("%.17g", v);
+}
+}  // namespace
+
 void CollisionParams::loadFromConfigFile(const mrpt::config::CConfigFileBase& c,
                                          const std::string& s)
 {
@@ -186,16 +219,20 @@ void CollisionParams::loadFromConfigFile(const mrpt::config::CConfigFileBase& c,
   MRPT_LOAD_CONFIG_VAR(footprint_margin_m, double, c, s);
   MRPT_LOAD_CONFIG_VAR(footprint_turn_margin_m, double, c, s);
   MRPT_LOAD_CONFIG_VAR(yaw_bins, int, c, s);
-  MRPT_LOAD_CONFIG_VAR(footprint_square_share, double, c, s);
-  common::requireValid(footprint_square_share >= 0 && footprint_square_share <= 1, c, s,
-                       "footprint_square_share", "must be in [0, 1]");
+  footprint_square_share = readAutoOrNumber(c, s, "footprint_square_share", footprint_square_share);
+  common::requireValid(footprint_square_share == kAuto ||
+                           (footprint_square_share >= 0 && footprint_square_share <= 1),
+                       c, s, "footprint_square_share", "must be auto or in [0, 1]");
   MRPT_LOAD_CONFIG_VAR(footprint_turn_square_share, double, c, s);
   common::requireValid(footprint_turn_square_share >= 0 && footprint_turn_square_share <= 1, c, s,
                        "footprint_turn_square_share", "must be in [0, 1]");
   MRPT_LOAD_CONFIG_VAR(footprint_bin_span, double, c, s);
-  MRPT_LOAD_CONFIG_VAR(footprint_lateral_m, double, c, s);
-  common::requireValid(footprint_lateral_m >= 0 && footprint_lateral_m <= 0.2, c, s,
-                       "footprint_lateral_m", "must be in [0, 0.2]");
+  footprint_lateral_m = readAutoOrNumber(c, s, "footprint_lateral_m", footprint_lateral_m);
+  common::requireValid(
+      footprint_lateral_m == kAuto || (footprint_lateral_m >= 0 && footprint_lateral_m <= 0.2), c,
+      s, "footprint_lateral_m", "must be auto or in [0, 0.2]");
+  MRPT_LOAD_CONFIG_VAR(auto_door_m, double, c, s);
+  common::requireValid(auto_door_m > 0, c, s, "auto_door_m", "must be > 0");
   MRPT_LOAD_CONFIG_VAR(swept_passage, bool, c, s);
   MRPT_LOAD_CONFIG_VAR(swept_passage_margin_m, double, c, s);
   common::requireValid(swept_passage_margin_m >= 0, c, s, "swept_passage_margin_m", "must be >= 0");
@@ -220,10 +257,11 @@ void CollisionParams::saveToConfigFile(mrpt::config::CConfigFileBase& c, const s
   MRPT_SAVE_CONFIG_VAR(footprint_margin_m, c, s);
   MRPT_SAVE_CONFIG_VAR(footprint_turn_margin_m, c, s);
   MRPT_SAVE_CONFIG_VAR(yaw_bins, c, s);
-  MRPT_SAVE_CONFIG_VAR(footprint_square_share, c, s);
+  c.write(s, "footprint_square_share", autoOrNumber(footprint_square_share));
   MRPT_SAVE_CONFIG_VAR(footprint_turn_square_share, c, s);
   MRPT_SAVE_CONFIG_VAR(footprint_bin_span, c, s);
-  MRPT_SAVE_CONFIG_VAR(footprint_lateral_m, c, s);
+  c.write(s, "footprint_lateral_m", autoOrNumber(footprint_lateral_m));
+  MRPT_SAVE_CONFIG_VAR(auto_door_m, c, s);
   MRPT_SAVE_CONFIG_VAR(swept_passage, c, s);
   MRPT_SAVE_CONFIG_VAR(swept_passage_margin_m, c, s);
 }

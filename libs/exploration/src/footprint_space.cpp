@@ -80,7 +80,8 @@ FootprintSpace computeFootprintSpace(
   const double res = like.getResolution();
 
   fs.turn_margin_m = std::max(p.footprint_turn_margin_m, p.footprint_margin_m);
-  const double share = p.footprint_square_share;
+  const double share = p.squareShareInForce(res);
+  const double lateral = p.lateralInForce(res);
   const double span = p.footprint_bin_span;
   const auto stamp =
       makeStamp(0.5 * fs.length_m, 0.5 * fs.width_m, fs.margin_m, res, fs.bins, share, span);
@@ -139,11 +140,11 @@ FootprintSpace computeFootprintSpace(
   // is clear for translation when it fits at one of the three places (each
   // tested against both occupied and open unknown cells at that place).
   // Turning stays at the cell centre.
-  if (p.footprint_lateral_m > 0)
+  if (lateral > 0)
   {
     const double a = 0.5 * fs.length_m, b = 0.5 * fs.width_m;
-    const auto left = makeStamp(a, b, fs.margin_m, res, fs.bins, share, span, p.footprint_lateral_m);
-    const auto right = makeStamp(a, b, fs.margin_m, res, fs.bins, share, span, -p.footprint_lateral_m);
+    const auto left = makeStamp(a, b, fs.margin_m, res, fs.bins, share, span, lateral);
+    const auto right = makeStamp(a, b, fs.margin_m, res, fs.bins, share, span, -lateral);
     // The occupied squares' layer (in reach, zeroed again below), then a
     // copy of it (in escape) that the open unknown squares are stamped into
     // as well (one pass per border list, as above).

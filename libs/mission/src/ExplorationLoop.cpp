@@ -47,6 +47,7 @@ void ExplorationLoopParams::loadFromConfigFile(const mrpt::config::CConfigFileBa
   MRPT_LOAD_CONFIG_VAR(max_plans_per_target, int, c, s);
   MRPT_LOAD_CONFIG_VAR(min_progress_m, double, c, s);
   MRPT_LOAD_CONFIG_VAR(approach_replanned, bool, c, s);
+  MRPT_LOAD_CONFIG_VAR(low_obstacle_replan, bool, c, s);
   MRPT_LOAD_CONFIG_VAR(stagnation_steps, int, c, s);
   MRPT_LOAD_CONFIG_VAR(stagnation_min_gain_m2, double, c, s);
   MRPT_LOAD_CONFIG_VAR(stagnation_path_m, double, c, s);
@@ -75,6 +76,7 @@ void ExplorationLoopParams::saveToConfigFile(mrpt::config::CConfigFileBase& c,
   MRPT_SAVE_CONFIG_VAR(max_plans_per_target, c, s);
   MRPT_SAVE_CONFIG_VAR(min_progress_m, c, s);
   MRPT_SAVE_CONFIG_VAR(approach_replanned, c, s);
+  MRPT_SAVE_CONFIG_VAR(low_obstacle_replan, c, s);
   MRPT_SAVE_CONFIG_VAR(stagnation_steps, c, s);
   MRPT_SAVE_CONFIG_VAR(stagnation_min_gain_m2, c, s);
   MRPT_SAVE_CONFIG_VAR(stagnation_path_m, c, s);
@@ -197,7 +199,7 @@ void ExplorationLoop::loop()
     if (params_.approach_replanned)
       for (const auto& [c, n] : plans_)
         if (n > 0) approach.push_back(c);
-    const std::vector<Eigen::Vector2d> low = slam_.octomap().lowObstacles();
+    std::vector<Eigen::Vector2d> low = slam_.octomap().lowObstacles();
     if (listener_)
       listener_->onPlanInputs(exploration::PlanInputs{slam_.currentPose(), step, blacklist_,
                                                       sensed_obstacles_, low, approach, swept_,
@@ -210,10 +212,11 @@ void ExplorationLoop::loop()
       // The OctoMap after a loop closure is still being rebuilt over the
       // stops: the end is decided on the corrected map, not the old one.
       slam_.finishMapRebuild();
+      low = slam_.octomap().lowObstacles();
       plan = exploration::plan(slam_.octomap().tree(), slam_.currentPose(), planner_, blacklist_,
-                               step, swept_, sensed_obstacles_, approach,
-                               slam_.octomap().lowObstacles());
+                               step, swept_, sensed_obstacles_, approach, low);
     }
+    setLowAtPlan(low);
     double cut_off_m2 = 0;  // known floor cut off from the robot, when the planner found nothing
     if (!plan.ok())
     {
@@ -240,8 +243,15 @@ void ExplorationLoop::loop()
         plan.frontier ? plan.frontier->center : Eigen::Vector2d(plan.target.x(), plan.target.y());
     registerPlan(target);
     const double path_before = status_.path_length_m;
-    if (driveWaypoints(plan) && status_.path_length_m - path_before < params_.min_progress_m)
+    const Drive drive = driveWaypoints(plan);
+    if (drive == Drive::Reached && status_.path_length_m - path_before < params_.min_progress_m)
       registerFailure(target);
+    if (drive == Drive::Interrupted)
+    {
+      // Not this target's fault: its plan is not counted.
+      auto it = countFor(plans_, target);
+      if (it->second > 0) it->second--;
+    }
   }
 }
 
@@ -274,7 +284,7 @@ void ExplorationLoop::scanAndIntegrate()
   if (listener_) listener_->onStop(scan, rep);
 }
 
-bool ExplorationLoop::driveWaypoints(const exploration::PlanResult& plan)
+ExplorationLoop::Drive ExplorationLoop::driveWaypoints(const exploration::PlanResult& plan)
 {
   const auto& wps = plan.waypoints;
   for (std::size_t i = 0; i < wps.size(); i++)
@@ -298,10 +308,17 @@ bool ExplorationLoop::driveWaypoints(const exploration::PlanResult& plan)
               mrpt::format("%.2f, %.2f", wps[i].x(), wps[i].y()) +
               "): " + navigation::toString(r.outcome) + ": " + r.message + "; replanning");
       registerFailure(plan.frontier ? plan.frontier->center : wps.back());
-      return false;
+      return Drive::Failed;
+    }
+    if (!last && params_.low_obstacle_replan && lowObstacleAhead(plan, i + 1))
+    {
+      status_.low_obstacle_replans++;
+      message("waypoint " + std::to_string(i + 1) + "/" + std::to_string(wps.size()) +
+              ": a low obstacle seen on the rest of the path; replanning");
+      return Drive::Interrupted;
     }
   }
-  return true;
+  return Drive::Reached;
 }
 
 ExplorationLoop::TargetCounts::iterator ExplorationLoop::countFor(TargetCounts& counts,

@@ -158,8 +158,9 @@ struct CollisionParams : public mrpt::config::CLoadableOptions
   /// 0.5 by default since the twenty-third session: on the 26 omniRob
   /// building runs coverage_2d mean/worst nbv 0.964/0.932 -> 0.971/0.942,
   /// nearest 0.959/0.885 -> 0.968/0.920, runs >= 0.95 20 -> 24 of 26
-  /// (BENCHMARKS.md twenty-second session).
-  double footprint_square_share = 0.5;
+  /// (BENCHMARKS.md twenty-second session). kAuto (ini "auto", the
+  /// default): see footprintTrimmed().
+  double footprint_square_share = kAuto;
   /// Footprint: the same for turning in place (clear_turn, with
   /// footprint_turn_margin_m). Whole cells by default whatever
   /// footprint_square_share says: with half squares for both, the plans
@@ -183,8 +184,31 @@ struct CollisionParams : public mrpt::config::CLoadableOptions
   /// up to a cell of its width (b1, omniRob: a 0.90 m door mapped 0.80 m
   /// wide was 1 mm too narrow at both centres). The driver's footprint
   /// centring moves the body that far sideways where the sensed points ask
-  /// for it. 0: cell centres only; default half a cell at 5 cm [m].
-  double footprint_lateral_m = 0.025;
+  /// for it. 0: cell centres only; kAuto (ini "auto", the default): half a
+  /// cell when footprintTrimmed(), else 0 [m].
+  double footprint_lateral_m = kAuto;
+  /// footprint_square_share / footprint_lateral_m "auto": the value resolved
+  /// at the map's resolution (squareShareInForce, lateralInForce).
+  static constexpr double kAuto = -1.0;
+  /// "auto" margins: the narrowest door the robot must pass (office doors
+  /// are 0.85-1.0 m) [m]. Whole squares and cell centres (exact) cost a
+  /// door up to 3 cells of its width (a cell at each jamb, and the centres'
+  /// spacing); when the rectangle's width plus 2 footprint_margin_m plus
+  /// that fits this door the margins stay exact, else they are trimmed
+  /// (half squares, half a cell sideways). The omniRob (0.712 m: 0.902 m
+  /// needed at 5 cm) is trimmed; the compact robot (0.36 m: 0.55 m) keeps
+  /// the exact bound: trimmed it drove within a cell of furniture legs
+  /// and hit one outside its cameras' view (aws_small_house nearest: 5
+  /// collisions; exact 0, BENCHMARKS.md twenty-fourth session).
+  double auto_door_m = 0.85;
+  /// @brief Whether "auto" margins are trimmed on a map of resolution
+  ///        l_res_m: footprint_width_m + 2 footprint_margin_m + 3 l_res_m
+  ///        > auto_door_m.
+  bool footprintTrimmed(double l_res_m) const;
+  /// @brief footprint_square_share, "auto" resolved: 0.5 trimmed, else 1.
+  double squareShareInForce(double l_res_m) const;
+  /// @brief footprint_lateral_m, "auto" resolved: l_res_m / 2 trimmed, else 0.
+  double lateralInForce(double l_res_m) const;
   /// Circle model: the cells round the poses the robot's centre has swept
   /// (the cell and its 8 neighbours) are Free when they keep r_coll_m +
   /// swept_passage_margin_m from every occupied cell centre: the robot's
