@@ -13,7 +13,7 @@ the window of metres driven back.
 
 Usage:
   scripts/stagnation_offline.py CAMPAIGN_DIR_OR_CSV_DIR... [--window 100,150,200]
-                                [--gain 2,5,8] [--runs]
+                                [--gain 2,5,8] [--runs] [--guard]
 A directory holding runs/*/coverage.csv (scripts/campaign.sh) or *.csv files
 (benchmarks/campaigns/*/coverage/). Prints, per (window, gain): runs where the
 rule fires, the largest coverage_2d loss and the run, the worst coverage, the
@@ -50,8 +50,10 @@ def load(dirs):
     return runs
 
 
-def fires(rows, window, gain):
-    """The index of the row where the rule ends the run, or None."""
+def fires(rows, window, gain, guard=False):
+    """The index of the row where the rule ends the run, or None. guard:
+    not at a step with a new frontier ([explore]
+    stagnation_new_frontier_guard, coverage.csv's new_frontiers)."""
     path = [float(r['path_length_m']) for r in rows]
     floor = [float(r['known_floor_m2']) for r in rows]
     j = 0
@@ -61,6 +63,8 @@ def fires(rows, window, gain):
         while j + 1 < i and path[j + 1] <= path[i] - window:
             j += 1
         if j < i and path[i] - path[j] >= window and floor[i] - floor[j] < gain:
+            if guard and int(r['new_frontiers']) > 0:
+                continue
             return i
     return None
 
@@ -71,8 +75,15 @@ def main():
     ap.add_argument('--window', default='100,150,200', help='windows [m], comma separated')
     ap.add_argument('--gain', default='2,5,8', help='minimum gains [m^2], comma separated')
     ap.add_argument('--runs', action='store_true', help='one line per run (first window, gain)')
+    ap.add_argument('--guard', action='store_true',
+                    help='no end at a step with a new frontier (stagnation_new_frontier_guard)')
     a = ap.parse_args()
     runs = load(a.dirs)
+    if a.guard:
+        for name, rows in runs:
+            if 'new_frontiers' not in rows[0]:
+                sys.exit('stagnation_offline.py: %s has no new_frontiers column '
+                         '(runs before the twenty-fifth session); --guard needs it' % name)
     windows = [float(x) for x in a.window.split(',')]
     gains = [float(x) for x in a.gain.split(',')]
     print('| window [m] | gain [m^2] | runs ended | largest loss | worst coverage | path before -> after [m] |')
@@ -80,7 +91,7 @@ def main():
     for w, g in itertools.product(windows, gains):
         fired, loss, worst, cov_min, p0, p1 = 0, 0.0, '', 9.0, 0.0, 0.0
         for name, rows in runs:
-            i = fires(rows, w, g)
+            i = fires(rows, w, g, a.guard)
             end = rows[-1] if i is None else rows[i]
             c0, c1 = float(rows[-1]['coverage_2d']), float(end['coverage_2d'])
             fired += i is not None
@@ -95,7 +106,7 @@ def main():
         w, g = windows[0], gains[0]
         print('\nper run, window %g m, gain %g m^2:' % (w, g))
         for name, rows in runs:
-            i = fires(rows, w, g)
+            i = fires(rows, w, g, a.guard)
             end = rows[-1] if i is None else rows[i]
             print('%-50s coverage %.3f -> %.3f  path %6.0f -> %6.0f  %s'
                   % (name, float(rows[-1]['coverage_2d']), float(end['coverage_2d']),

@@ -490,3 +490,28 @@ TEST(ExplorationLoop, ALowObstacleSeenOnTheWayEndsTheDrive)
   EXPECT_EQ(off.low_obstacle_replans, 0u);
   EXPECT_GT(hits_off, 0u) << "the plate is not on a path planned before it was seen";
 }
+
+TEST(ExplorationLoop, StagnationWaitsWhileAFrontierWasNeverPlanned)
+{
+  // The guard: a window that says stop does not end the run while a
+  // frontier left lies away from every frontier planned so far (a room
+  // never targeted); when the run does end by stagnation, none is new.
+  RobotSetup setup;
+  setup.loop.stagnation_path_m = 1.5;
+  setup.loop.stagnation_path_min_gain_m2 = 1000.0;
+  setup.loop.max_steps = 30;
+  CountingListener plain;
+  const auto without = exploreTwoRooms(setup, &plain);
+  ASSERT_EQ(without.termination_reason, "stagnation");
+  ASSERT_GT(without.new_frontiers, 0u) << "the test needs a new frontier at the window's end";
+  setup.loop.stagnation_new_frontier_guard = true;
+  CountingListener guarded;
+  const auto with = exploreTwoRooms(setup, &guarded);
+  EXPECT_GT(guarded.plans, plain.plans);
+  if (with.termination_reason == "stagnation")
+  {
+    EXPECT_EQ(with.new_frontiers, 0u);
+  }
+  // Off by default.
+  EXPECT_FALSE(mission::ExplorationLoopParams{}.stagnation_new_frontier_guard);
+}

@@ -196,7 +196,7 @@ void ExploreRun::openOutputs()
                    "target_y,waypoints,ms_slam,ms_projection,ms_collision,ms_frontiers,"
                    "ms_sampling,ms_rating,ms_path,ms_plan_total,metaview_points,octree_nodes,"
                    "rss_mb,coverage_2d_planner_circle,ms_tour,tour_length_m,ms_rooms,rooms,robot_room,"
-                   "frontier_room,known_floor_m2\n";
+                   "frontier_room,known_floor_m2,new_frontiers\n";
   if (cfg_.explore.write_step_images) fs::create_directories(dir / "steps");
 }
 
@@ -223,7 +223,7 @@ void ExploreRun::writeCoverageRow(const exploration::PlanResult& p, double cover
 {
   coverage_csv_ << mrpt::format(
       "%zu,%zu,%.3f,%.4f,%.5f,%zu,%s,%.3f,%.3f,%zu,%.1f,%.1f,%.1f,%.1f,%.1f,%.1f,%.1f,%.1f,%zu,%zu,"
-      "%.1f,%.5f,%.1f,%.2f,%.1f,%zu,%d,%d,%.3f\n",
+      "%.1f,%.5f,%.1f,%.2f,%.1f,%zu,%d,%d,%.3f,%zu\n",
       s_.steps, s_.stops, sim_.simTime(), s_.path_length_m, coverage,
       p.frontiers ? p.frontiers->frontiers.size() : std::size_t(0),
       p.ok() ? "no" : exploration::toString(p.done), p.target.x(), p.target.y(),
@@ -231,7 +231,7 @@ void ExploreRun::writeCoverageRow(const exploration::PlanResult& p, double cover
       p.ms.sampling, p.ms.rating, p.ms.path, p.ms.total, slam().metaview().size(),
       slam().octomap().tree().size(), processMemoryMb("VmRSS:"), coverage_planner_circle,
       p.ms.tour, p.tour.length_m, p.ms.rooms, p.rooms ? p.rooms->area_m2.size() : std::size_t(0),
-      static_cast<int>(p.robot_room), frontierRoom(p), s_.known_floor_m2);
+      static_cast<int>(p.robot_room), frontierRoom(p), s_.known_floor_m2, s_.new_frontiers);
   coverage_csv_.flush();
   // coverage.png follows coverage.csv at every step (a few ms), so a run cut
   // short still leaves it.

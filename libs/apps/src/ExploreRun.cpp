@@ -185,6 +185,7 @@ void ExploreRun::onPlan(const exploration::PlanResult& plan, double plan_ms,
 {
   s_.steps = status.steps;
   s_.known_floor_m2 = status.known_floor_m2;  // coverage.csv's known_floor_m2 (G's free floor)
+  s_.new_frontiers = status.new_frontiers;    // ... and new_frontiers
   const double coverage = plan.ground ? coverageOf(*plan.ground) : 0.0;
   const double coverage_planner =
       plan.ground

@@ -48,6 +48,7 @@ void ExplorationLoopParams::loadFromConfigFile(const mrpt::config::CConfigFileBa
   MRPT_LOAD_CONFIG_VAR(min_progress_m, double, c, s);
   MRPT_LOAD_CONFIG_VAR(approach_replanned, bool, c, s);
   MRPT_LOAD_CONFIG_VAR(low_obstacle_replan, bool, c, s);
+  MRPT_LOAD_CONFIG_VAR(stagnation_new_frontier_guard, bool, c, s);
   MRPT_LOAD_CONFIG_VAR(stagnation_steps, int, c, s);
   MRPT_LOAD_CONFIG_VAR(stagnation_min_gain_m2, double, c, s);
   MRPT_LOAD_CONFIG_VAR(stagnation_path_m, double, c, s);
@@ -77,6 +78,7 @@ void ExplorationLoopParams::saveToConfigFile(mrpt::config::CConfigFileBase& c,
   MRPT_SAVE_CONFIG_VAR(min_progress_m, c, s);
   MRPT_SAVE_CONFIG_VAR(approach_replanned, c, s);
   MRPT_SAVE_CONFIG_VAR(low_obstacle_replan, c, s);
+  MRPT_SAVE_CONFIG_VAR(stagnation_new_frontier_guard, c, s);
   MRPT_SAVE_CONFIG_VAR(stagnation_steps, c, s);
   MRPT_SAVE_CONFIG_VAR(stagnation_min_gain_m2, c, s);
   MRPT_SAVE_CONFIG_VAR(stagnation_path_m, c, s);
@@ -242,6 +244,7 @@ void ExplorationLoop::loop()
     const Eigen::Vector2d target =
         plan.frontier ? plan.frontier->center : Eigen::Vector2d(plan.target.x(), plan.target.y());
     registerPlan(target);
+    planned_.push_back(target);
     const double path_before = status_.path_length_m;
     const Drive drive = driveWaypoints(plan);
     if (drive == Drive::Reached && status_.path_length_m - path_before < params_.min_progress_m)

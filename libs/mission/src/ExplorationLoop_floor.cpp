@@ -72,9 +72,16 @@ void ExplorationLoop::noteCutOff(double cut_off_m2)
 void ExplorationLoop::noteFrontiers(const exploration::PlanResult& plan)
 {
   status_.frontiers_left.clear();
+  status_.new_frontiers = 0;
+  const double radius = planner_.sampling.blacklist_radius_m;
   if (plan.frontiers)
     for (const auto& f : plan.frontiers->frontiers)
+    {
       status_.frontiers_left.emplace_back(f.center, f.size_m);
+      status_.new_frontiers += std::none_of(planned_.begin(), planned_.end(), [&](const auto& c) {
+        return (c - f.center).norm() <= radius;
+      });
+    }
   if (!plan.ground) return;
   status_.known_floor_m2 = knownFloorM2(*plan.ground);
   known_floor_.push_back(status_.known_floor_m2);
@@ -110,6 +117,7 @@ bool ExplorationLoop::stagnated()
     why = mrpt::format("%.1f m^2 of floor found over the last %.0f m driven (< %.1f)", *g,
                        params_.stagnation_path_m, params_.stagnation_path_min_gain_m2);
   if (why.empty()) return false;
+  if (params_.stagnation_new_frontier_guard && status_.new_frontiers > 0) return false;
   double left_m = 0;
   for (const auto& f : status_.frontiers_left) left_m += f.second;
   status_.termination_reason = "stagnation";

@@ -121,6 +121,12 @@ struct ExplorationLoopParams : public mrpt::config::CLoadableOptions
   /// its last room); 0 = never [m].
   double stagnation_path_m = 200;
   double stagnation_path_min_gain_m2 = 3.0;  ///< [m^2]
+  /// Stagnation (either rule) ends a run only when no frontier left is new:
+  /// each lies within [sampling] blacklist_radius_m of a frontier planned
+  /// before. A room never targeted yet (b10 compact nearest's last room
+  /// behind 133 m of slivers, b6 compact circle's behind 264 m) keeps the
+  /// run going, so a shorter window is safe. false = the window alone.
+  bool stagnation_new_frontier_guard = false;
   /// Shut in (issue 12): when the planner finds nothing to do while at least
   /// this much known free floor, and more than half of it, is cut off from
   /// the robot (exploration::cutOffFloorM2), it plans once more trusting the swept
@@ -165,6 +171,9 @@ struct ExplorationStatus
   double slam_ms_step = 0;        ///< SLAM time of the current step so far [ms]
   double elapsed_s = 0;           ///< Clock time since run() started [s]
   double known_floor_m2 = 0;      ///< free floor known in G at the last planning step [m^2]
+  /// Frontiers of the last planning step farther than blacklist_radius_m
+  /// from every frontier planned before it (stagnation_new_frontier_guard)
+  std::size_t new_frontiers = 0;
   /// At the end (the planner found nothing to do): the known free floor the
   /// robot cannot get to (exploration::cutOffFloorM2) [m^2]
   double known_floor_cut_off_m2 = 0;
@@ -312,6 +321,7 @@ class ExplorationLoop
   exploration::SweptPath swept_;
   std::vector<double> known_floor_;  ///< known_floor_m2 at each planning step
   std::vector<double> path_at_plan_;  ///< path_length_m at each planning step [m]
+  std::vector<Eigen::Vector2d> planned_;  ///< the frontier (or target) of every plan so far
   /// Points drives were blocked by that the map may not hold (map frame).
   std::vector<Eigen::Vector2d> sensed_obstacles_;
   /// Cell keys of the low obstacles the current plan was made with (sorted).
