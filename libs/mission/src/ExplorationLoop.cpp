@@ -313,8 +313,12 @@ ExplorationLoop::Drive ExplorationLoop::driveWaypoints(const exploration::PlanRe
       registerFailure(plan.frontier ? plan.frontier->center : wps.back());
       return Drive::Failed;
     }
-    if (!last && params_.low_obstacle_replan && lowObstacleAhead(plan, i + 1))
+    // Not twice without the robot moving in between: a new plan ended at
+    // its first stop, standing, again and again, would never drive.
+    const bool moved = status_.path_length_m - path_at_interrupt_ >= params_.min_progress_m;
+    if (!last && params_.low_obstacle_replan && moved && lowObstacleAhead(plan, i + 1))
     {
+      path_at_interrupt_ = status_.path_length_m;
       status_.low_obstacle_replans++;
       message("waypoint " + std::to_string(i + 1) + "/" + std::to_string(wps.size()) +
               ": a low obstacle seen on the rest of the path; replanning");

@@ -32,6 +32,7 @@
 
 #include <Eigen/Core>
 #include <cstddef>
+#include <limits>
 #include <memory>
 #include <optional>
 #include <string>
@@ -142,7 +143,8 @@ struct ExplorationLoopParams : public mrpt::config::CLoadableOptions
   /// was planned, closer to the rest of the path than the robot's
   /// circumradius plus footprint_margin_m and half a cell's diagonal, end
   /// the drive, and the loop plans again (not a failure, not a plan of the
-  /// target counted). The cameras see no floor within ~0.9 m of their rim:
+  /// target counted; not twice without the robot moving min_progress_m in
+  /// between). The cameras see no floor within ~0.9 m of their rim:
   /// a table's 5 cm base plate seen on the approach is out of their view,
   /// and the guard's, when the body reaches it (turtlebot3_house, compact
   /// footprint, nearest: a collision planned before the plate was seen).
@@ -326,6 +328,8 @@ class ExplorationLoop
   std::vector<Eigen::Vector2d> sensed_obstacles_;
   /// Cell keys of the low obstacles the current plan was made with (sorted).
   std::vector<std::int64_t> low_at_plan_;
+  /// path_length_m when low_obstacle_replan last ended a drive [m]
+  double path_at_interrupt_ = -std::numeric_limits<double>::infinity();
   ExplorationStatus status_;
 };
 
