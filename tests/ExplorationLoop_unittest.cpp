@@ -294,6 +294,9 @@ struct RobotSetup
     slam.load(ini);
     planner.collision.r_coll_m = radius_m;
     planner.load(ini);
+    // This robot is a disc (its collisions are its circle's): the thesis'
+    // model, not the rectangle config/explore.ini plans with.
+    planner.collision.model = exploration::CollisionParams::Model::Circle;
     planner.rating.mounts = mounts;
     driver = navigation::DriverParams::forFootprint(kLength, kWidth);
     common::loadChecked(driver, ini, "navigation");

@@ -76,6 +76,7 @@ TEST(PlanInputs, TheSameInputsPlanTheSameStepAgain)
   in.approach.clear();
   PlannerParams p;
   p.collision.r_coll_m = 0.4;
+  p.collision.model = CollisionParams::Model::Circle;  // the thesis' disc
   // Low obstacles (a sill) across a fifth of the door: the run planned with them,
   // and voxplore-plan must do the same.
   in.low_obstacles.clear();

@@ -37,6 +37,7 @@ PlannerParams params()
 {
   PlannerParams p;
   p.collision.r_coll_m = 0.4;  // a compact robot, so the doorway is passable
+  p.collision.model = CollisionParams::Model::Circle;  // the thesis' disc
   return p;
 }
 }  // namespace
@@ -141,14 +142,20 @@ TEST(Planner, FrontierBehindTooNarrowGapIsNotPlanned)
   p.collision.model = CollisionParams::Model::Circle;  // the thesis
   const auto r = plan(V, CPose2D(-1.5, 0.0, 0.0), p);
   EXPECT_FALSE(r.ok()) << r.message;
-  // The default (model = auto) plans the omniRob's 1.54 m circle as its
-  // rectangle, which the 1.2 m doorway lets through.
+  // The default (model = footprint) plans the omniRob as its rectangle,
+  // which the 1.2 m doorway lets through; so does model = auto (its 1.54 m
+  // circle is wider than an office door).
   EXPECT_TRUE(PlannerParams{}.collision.usesFootprint(V.getResolution()));
   const auto fp = plan(V, CPose2D(-1.5, 0.0, 0.0), PlannerParams{});
   EXPECT_TRUE(fp.ok()) << fp.message;
-  // A compact robot's circle stays the thesis' under auto.
+  CollisionParams omni_auto;
+  omni_auto.model = CollisionParams::Model::Auto;
+  EXPECT_TRUE(omni_auto.usesFootprint(V.getResolution()));
+  // A compact robot: the footprint by default, its circle under auto.
   CollisionParams compact;
   compact.r_coll_m = 0.31;
+  EXPECT_TRUE(compact.usesFootprint(V.getResolution()));
+  compact.model = CollisionParams::Model::Auto;
   EXPECT_FALSE(compact.usesFootprint(V.getResolution()));
 }
 

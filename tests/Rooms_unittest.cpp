@@ -192,6 +192,7 @@ PlannerParams compact()
 {
   PlannerParams p;
   p.collision.r_coll_m = 0.4;
+  p.collision.model = CollisionParams::Model::Circle;  // the thesis' disc
   return p;
 }
 }  // namespace
