@@ -142,21 +142,17 @@ TEST(Planner, FrontierBehindTooNarrowGapIsNotPlanned)
   p.collision.model = CollisionParams::Model::Circle;  // the thesis
   const auto r = plan(V, CPose2D(-1.5, 0.0, 0.0), p);
   EXPECT_FALSE(r.ok()) << r.message;
-  // The default (model = footprint) plans the omniRob as its rectangle,
-  // which the 1.2 m doorway lets through; so does model = auto (its 1.54 m
-  // circle is wider than an office door).
+  // The default (model = auto) plans the omniRob's 1.54 m circle as its
+  // rectangle, which the 1.2 m doorway lets through.
   EXPECT_TRUE(PlannerParams{}.collision.usesFootprint(V.getResolution()));
   const auto fp = plan(V, CPose2D(-1.5, 0.0, 0.0), PlannerParams{});
   EXPECT_TRUE(fp.ok()) << fp.message;
-  CollisionParams omni_auto;
-  omni_auto.model = CollisionParams::Model::Auto;
-  EXPECT_TRUE(omni_auto.usesFootprint(V.getResolution()));
-  // A compact robot: the footprint by default, its circle under auto.
+  // A compact robot's circle stays the thesis' under auto.
   CollisionParams compact;
   compact.r_coll_m = 0.31;
-  EXPECT_TRUE(compact.usesFootprint(V.getResolution()));
-  compact.model = CollisionParams::Model::Auto;
   EXPECT_FALSE(compact.usesFootprint(V.getResolution()));
+  compact.model = CollisionParams::Model::Footprint;
+  EXPECT_TRUE(compact.usesFootprint(V.getResolution()));
 }
 
 TEST(Planner, ParamsRoundTripAndErrors)

@@ -118,28 +118,25 @@ struct CollisionParams : public mrpt::config::CLoadableOptions
   /// 2 r_coll); Footprint plans in (x, y, yaw) with the rectangle (footprint.h);
   /// Auto is Footprint when the planner's circle is wider than
   /// auto_footprint_above_m (usesFootprint), else Circle.
-  /// Footprint for every robot since the twenty-fifth session (it was Auto:
-  /// the compact robot planned with its circle): the compact robot's
-  /// footprint, with exact margins (squareShareInForce) and
-  /// ExplorationLoopParams::low_obstacle_replan, against its circle on
-  /// b1-b10, both strategies: coverage_2d mean / worst nbv 0.952 / 0.854 ->
-  /// 0.977 / 0.969, nearest 0.966 / 0.941 -> 0.975 / 0.957, runs >= 0.95
-  /// 14 -> 20 of 20, 0 collisions, min clearance 0.028 m, path +11-23 %;
-  /// turtlebot3_house 0.30 -> 0.97 (BENCHMARKS.md).
   enum class Model
   {
     Circle,
     Footprint,
     Auto
   };
-  Model model = Model::Footprint;
+  Model model = Model::Auto;
   /// Model::Auto: plan with the footprint when the planner circle's diameter
   /// 2 (r_coll + sqrt(2) l_res) exceeds this [m]. An office door is 0.8-1.0
   /// m wide: a wider circle closes the building's rooms to the robot (the
   /// omniRob's 1.54 m circle: 0.02-0.94 coverage of 10 generated buildings,
   /// its footprint 0.66-0.97, BENCHMARKS.md), a narrower one passes them
-  /// (the compact robot's 0.76 m circle keeps the thesis' model under
-  /// auto).
+  /// (the compact robot's 0.76 m circle keeps the thesis' model). Its
+  /// footprint (exact margins, low_obstacle_replan) measures more floor
+  /// (b1-b10 worst nbv 0.854 -> 0.969, turtlebot3_house 0.30 -> 0.98) but
+  /// grazed a sloped edge 3 cm high in aws_small_house (nbv, 1 collision)
+  /// and keeps 6-12 mm from furniture above its cameras in
+  /// turtlebot3_house: not its default yet (BENCHMARKS.md, twenty-fifth
+  /// session).
   double auto_footprint_above_m = 1.0;
   /// @brief The planner circle's diameter 2 (r_coll + sqrt(2) l_res) on a
   ///        map of resolution l_res_m [m].
