@@ -480,6 +480,7 @@ TEST(ExplorationLoop, ALowObstacleSeenOnTheWayEndsTheDrive)
   world.push_back({{6.0, 2.9, 0.0}, {6.5, 3.4, 0.05}});
   RobotSetup setup;
   setup.loop.max_steps = 30;
+  setup.loop.low_obstacle_replan = true;
   std::size_t hits_on = 0, hits_off = 0;
   const auto on = exploreTwoRooms(setup, nullptr, world, &hits_on);
   setup.loop.low_obstacle_replan = false;
