@@ -423,6 +423,17 @@ TEST(ExplorationLoop, AScanSourceErrorPropagatesAndTheStopsSoFarStay)
   EXPECT_EQ(loop.slam().numStops(), 2u);
 }
 
+/// A 1.5 m path window asking a gain no drive reaches (the rule fires as
+/// soon as the window is driven), up to 30 steps.
+RobotSetup pathWindowSetup()
+{
+  RobotSetup setup;
+  setup.loop.stagnation_path_m = 1.5;
+  setup.loop.stagnation_path_min_gain_m2 = 1000.0;
+  setup.loop.max_steps = 30;
+  return setup;
+}
+
 }  // namespace
 
 TEST(ExplorationLoop, ARunThatFindsNoNewFloorEndsWithStagnation)
@@ -452,10 +463,7 @@ TEST(ExplorationLoop, StagnationOverThePathWaitsForTheWindowToBeDriven)
   // "stagnation" at the first planning step after the robot has driven the
   // window (not before: a robot standing at a door fills no window), with
   // the frontiers left reported.
-  RobotSetup setup;
-  setup.loop.stagnation_path_m = 1.5;
-  setup.loop.stagnation_path_min_gain_m2 = 1000.0;
-  setup.loop.max_steps = 30;
+  RobotSetup setup = pathWindowSetup();
   CountingListener events;
   const auto status = exploreTwoRooms(setup, &events);
   const auto& paths = events.plan_paths;
@@ -500,10 +508,7 @@ TEST(ExplorationLoop, StagnationWaitsWhileAFrontierWasNeverPlanned)
   // The guard: a window that says stop does not end the run while a
   // frontier left lies away from every frontier planned so far (a room
   // never targeted); when the run does end by stagnation, none is new.
-  RobotSetup setup;
-  setup.loop.stagnation_path_m = 1.5;
-  setup.loop.stagnation_path_min_gain_m2 = 1000.0;
-  setup.loop.max_steps = 30;
+  RobotSetup setup = pathWindowSetup();
   CountingListener plain;
   const auto without = exploreTwoRooms(setup, &plain);
   ASSERT_EQ(without.termination_reason, "stagnation");
