@@ -132,7 +132,7 @@ struct CollisionParams : public mrpt::config::CLoadableOptions
   /// its footprint 0.66-0.97, BENCHMARKS.md), a narrower one passes them
   /// (the compact robot's 0.76 m circle keeps the thesis' model). Its
   /// footprint (exact margins, low_obstacle_replan) measures more floor
-  /// (b1-b10 worst nbv 0.854 -> 0.969, turtlebot3_house 0.30 -> 0.98) but
+  /// (b1-b10 worst nbv 0.854 -> 0.942, turtlebot3_house 0.30 -> 0.98) but
   /// grazed a sloped edge 3 cm high in aws_small_house (nbv, 1 collision)
   /// and keeps 6-12 mm from furniture above its cameras in
   /// turtlebot3_house: not its default yet (BENCHMARKS.md, twenty-fifth
