@@ -235,9 +235,7 @@ ExploreSummary ExploreApp::execute(const ExploreOptions& opts)
                                      "auto_door_m %.2f m)",
                                      col.squareShareInForce(l_res), col.lateralInForce(l_res),
                                      col.footprintTrimmed(l_res) ? "trimmed" : "exact",
-                                     col.footprint_width_m + 2 * col.footprint_margin_m +
-                                         3 * l_res,
-                                     col.auto_door_m)
+                                     col.exactDoorM(l_res), col.auto_door_m)
                       : std::string())
               << std::endl;
   }

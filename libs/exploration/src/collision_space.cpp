@@ -166,9 +166,9 @@ CollisionParams::Model CollisionParams::modelInForce(double l_res_m) const
   return plannerCircleDiameter(l_res_m) > auto_footprint_above_m ? Model::Footprint : Model::Circle;
 }
 
-bool CollisionParams::footprintTrimmed(double l_res_m) const
+double CollisionParams::exactDoorM(double l_res_m) const
 {
-  return footprint_width_m + 2.0 * footprint_margin_m + 3.0 * l_res_m > auto_door_m;
+  return footprint_width_m + 2.0 * footprint_margin_m + 3.0 * l_res_m;
 }
 
 double CollisionParams::squareShareInForce(double l_res_m) const

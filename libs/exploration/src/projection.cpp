@@ -362,6 +362,24 @@ GroundGrid projectToGround(const octomap::OcTree& V, const mrpt::poses::CPose2D&
   return G;
 }
 
+bool lowObstacleStamps(const GroundGrid& g, const Cell& c, const Cell& robot, bool low_on_unknown)
+{
+  const GroundState was = *g.state.cellByIndex(c.cx, c.cy);
+  if (was != GroundState::Free && !(was == GroundState::Unknown && low_on_unknown)) return false;
+  const std::size_t nx = g.state.getSizeX();
+  for (int dy = -1; dy <= 1; dy++)
+    for (int dx = -1; dx <= 1; dx++)
+    {
+      const int x = c.cx + dx, y = c.cy + dy;
+      if (x == robot.cx && y == robot.cy) return false;
+      if (!inGrid(g.state, x, y) || *g.state.cellByIndex(x, y) != GroundState::Occupied) continue;
+      const bool low_stamp =
+          !g.low_was.empty() && g.low_was[static_cast<std::size_t>(y) * nx + x] != 0;
+      if (!low_stamp) return false;
+    }
+  return true;
+}
+
 void stampObstacles(GroundGrid& g, const std::vector<Eigen::Vector2d>& sensed,
                     const std::vector<Eigen::Vector2d>& low, bool low_on_unknown)
 {
@@ -369,18 +387,8 @@ void stampObstacles(GroundGrid& g, const std::vector<Eigen::Vector2d>& sensed,
   for (const Eigen::Vector2d& q : low)
   {
     Cell c;
-    if (!cellOf(g.state, q, c)) continue;
-    const GroundState was = *g.state.cellByIndex(c.cx, c.cy);
-    if (was != GroundState::Free && !(was == GroundState::Unknown && low_on_unknown)) continue;
-    bool beside = false;
-    for (int dy = -1; dy <= 1 && !beside; dy++)
-      for (int dx = -1; dx <= 1 && !beside; dx++)
-      {
-        const int x = c.cx + dx, y = c.cy + dy;
-        beside = (x == g.robot.cx && y == g.robot.cy) ||
-                 (inGrid(g.state, x, y) && *g.state.cellByIndex(x, y) == GroundState::Occupied);
-      }
-    if (!beside) low_cells.push_back(c);
+    if (cellOf(g.state, q, c) && lowObstacleStamps(g, c, g.robot, low_on_unknown))
+      low_cells.push_back(c);
   }
   for (const Eigen::Vector2d& q : sensed)
   {

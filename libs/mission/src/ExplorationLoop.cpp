@@ -249,7 +249,7 @@ void ExplorationLoop::loop()
     const Drive drive = driveWaypoints(plan);
     if (drive == Drive::Reached && status_.path_length_m - path_before < params_.min_progress_m)
       registerFailure(target);
-    if (drive == Drive::Interrupted)
+    if (drive == Drive::Interrupted && params_.max_plans_per_target > 0)
     {
       // Not this target's fault: its plan is not counted.
       auto it = countFor(plans_, target);

@@ -1,6 +1,7 @@
 /* voxplore — ExplorationLoop: low obstacles seen on the way end a drive
  * ([explore] low_obstacle_replan). */
 #include <voxplore/exploration/grid.h>
+#include <voxplore/exploration/stages.h>
 #include <voxplore/mission/ExplorationLoop.h>
 
 #include <algorithm>
@@ -18,37 +19,6 @@ std::int64_t cellKey(const Eigen::Vector2d& p, double res)
   const auto ix = static_cast<std::int64_t>(std::floor(p.x() / res));
   const auto iy = static_cast<std::int64_t>(std::floor(p.y() / res));
   return (iy << 32) ^ (ix & 0xffffffffLL);
-}
-
-/// Whether the planner would stamp the low obstacle cell at q Occupied, by
-/// exploration::stampObstacles' rule on G as the plan had it: a cell G
-/// held Free (or Unknown, with low_on_unknown) none of whose 8 neighbours
-/// the voxel columns made Occupied (a wall's or a leg's base leaking into
-/// the cell in front: the stamps skip them, and so do the interruptions,
-/// or they ended a drive every few stops: omniRob b5 / b6, 111-186 a run,
-/// coverage -0.04 to -0.08) nor is the robot's cell.
-bool plannerStamps(const exploration::GroundGrid& g, const Eigen::Vector2d& q,
-                   const exploration::Cell& robot, bool low_on_unknown)
-{
-  using exploration::GroundState;
-  exploration::Cell c;
-  if (!exploration::cellOf(g.state, q, c)) return false;
-  const std::size_t nx = g.state.getSizeX();
-  const auto lowStamp = [&](int x, int y)
-  { return !g.low_was.empty() && g.low_was[static_cast<std::size_t>(y) * nx + x] != 0; };
-  GroundState was = *g.state.cellByIndex(c.cx, c.cy);
-  if (lowStamp(c.cx, c.cy)) return false;  // stamped already: the plan kept off it
-  if (was != GroundState::Free && !(was == GroundState::Unknown && low_on_unknown)) return false;
-  for (int dy = -1; dy <= 1; dy++)
-    for (int dx = -1; dx <= 1; dx++)
-    {
-      const int x = c.cx + dx, y = c.cy + dy;
-      if (x == robot.cx && y == robot.cy) return false;
-      if (exploration::inGrid(g.state, x, y) &&
-          *g.state.cellByIndex(x, y) == GroundState::Occupied && !lowStamp(x, y))
-        return false;
-    }
-  return true;
 }
 
 /// Distance from p to the segment a-b [m].
@@ -88,8 +58,14 @@ bool ExplorationLoop::lowObstacleAhead(const exploration::PlanResult& plan,
   for (const auto& c : slam_.octomap().lowObstacles())
   {
     if (std::binary_search(low_at_plan_.begin(), low_at_plan_.end(), cellKey(c, res))) continue;
-    if (plan.ground && !plannerStamps(*plan.ground, c, robot_cell,
-                                      planner_.collision.low_obstacles_on_unknown))
+    // Only cells the planner would stamp (its rule on the plan's G): a
+    // wall's or a leg's base leaks into the cell in front, and counting
+    // those ended omniRob drives 111-186 times a run (b5 / b6, coverage
+    // -0.04 to -0.08).
+    exploration::Cell cell;
+    if (plan.ground && !(exploration::cellOf(plan.ground->state, c, cell) &&
+                         exploration::lowObstacleStamps(*plan.ground, cell, robot_cell,
+                                                        planner_.collision.low_obstacles_on_unknown)))
       continue;
     Eigen::Vector2d a = start;
     for (std::size_t k = from; k < wps.size(); k++)

@@ -92,6 +92,10 @@ GroundGrid projectToGround(
 ///        g.low_was (left empty when there are none).
 void stampObstacles(GroundGrid& g, const std::vector<Eigen::Vector2d>& sensed,
                     const std::vector<Eigen::Vector2d>& low, bool low_on_unknown);
+/// @brief stampObstacles' rule for the low obstacle cell c (in g): whether
+///        it is stamped, with `robot` as the robot's cell. g.low_was's own
+///        stamps (a G stamped already) do not count as columns.
+bool lowObstacleStamps(const GroundGrid& g, const Cell& c, const Cell& robot, bool low_on_unknown);
 
 // ------------------------------------------------------------ 2. collision space
 /// @brief ini section [collision].
@@ -130,13 +134,9 @@ struct CollisionParams : public mrpt::config::CLoadableOptions
   /// m wide: a wider circle closes the building's rooms to the robot (the
   /// omniRob's 1.54 m circle: 0.02-0.94 coverage of 10 generated buildings,
   /// its footprint 0.66-0.97, BENCHMARKS.md), a narrower one passes them
-  /// (the compact robot's 0.76 m circle keeps the thesis' model). Its
-  /// footprint (exact margins, low_obstacle_replan) measures more floor
-  /// (b1-b10 worst nbv 0.854 -> 0.942, turtlebot3_house 0.30 -> 0.98) but
-  /// grazed a sloped edge 3 cm high in aws_small_house (nbv, 1 collision)
-  /// and keeps 6-12 mm from furniture above its cameras in
-  /// turtlebot3_house: not its default yet (BENCHMARKS.md, twenty-fifth
-  /// session).
+  /// (the compact robot's 0.76 m circle: its footprint measures more floor
+  /// but grazed a 3 cm sloped edge in aws_small_house; README, BENCHMARKS.md
+  /// twenty-fifth session).
   double auto_footprint_above_m = 1.0;
   /// @brief The planner circle's diameter 2 (r_coll + sqrt(2) l_res) on a
   ///        map of resolution l_res_m [m].
@@ -194,21 +194,17 @@ struct CollisionParams : public mrpt::config::CLoadableOptions
   /// footprint_square_share / footprint_lateral_m "auto": the value resolved
   /// at the map's resolution (squareShareInForce, lateralInForce).
   static constexpr double kAuto = -1.0;
-  /// "auto" margins: the narrowest door the robot must pass (office doors
-  /// are 0.85-1.0 m) [m]. Whole squares and cell centres (exact) cost a
-  /// door up to 3 cells of its width (a cell at each jamb, and the centres'
-  /// spacing); when the rectangle's width plus 2 footprint_margin_m plus
-  /// that fits this door the margins stay exact, else they are trimmed
-  /// (half squares, half a cell sideways). The omniRob (0.712 m: 0.902 m
-  /// needed at 5 cm) is trimmed; the compact robot (0.36 m: 0.55 m) keeps
-  /// the exact bound: trimmed it drove within a cell of furniture legs
-  /// and hit one outside its cameras' view (aws_small_house nearest: 5
-  /// collisions; exact 0, BENCHMARKS.md twenty-fourth session).
+  /// "auto" margins: the narrowest door the robot must pass [m]. Exact
+  /// margins (whole squares, cell centres) while exactDoorM fits it, else
+  /// trimmed (half squares, half a cell sideways): the omniRob needs 0.902
+  /// m at 5 cm (trimmed), the compact robot 0.55 m (exact: trimmed it hit
+  /// furniture legs, aws_small_house nearest 5 collisions, exact 0).
   double auto_door_m = 0.85;
-  /// @brief Whether "auto" margins are trimmed on a map of resolution
-  ///        l_res_m: footprint_width_m + 2 footprint_margin_m + 3 l_res_m
-  ///        > auto_door_m.
-  bool footprintTrimmed(double l_res_m) const;
+  /// @brief The door the rectangle needs with exact margins on a map of
+  ///        resolution l_res_m: footprint_width_m + 2 footprint_margin_m + 3 l_res_m [m].
+  double exactDoorM(double l_res_m) const;
+  /// @brief Whether "auto" margins are trimmed: exactDoorM(l_res_m) > auto_door_m.
+  bool footprintTrimmed(double l_res_m) const { return exactDoorM(l_res_m) > auto_door_m; }
   /// @brief footprint_square_share, "auto" resolved: 0.5 trimmed, else 1.
   double squareShareInForce(double l_res_m) const;
   /// @brief footprint_lateral_m, "auto" resolved: l_res_m / 2 trimmed, else 0.
