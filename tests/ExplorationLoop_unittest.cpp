@@ -6,6 +6,7 @@
 // (README "Plugging in a robot"), cut down to the geometry of one room.
 #include <gtest/gtest.h>
 #include <mrpt/config/CConfigFile.h>
+#include <mrpt/config/CConfigFileMemory.h>
 #include <mrpt/obs/CObservation3DRangeScan.h>
 #include <mrpt/obs/CObservationOdometry.h>
 #include <voxplore/common/camera_mounts.h>
@@ -488,10 +489,10 @@ TEST(ExplorationLoop, ALowObstacleSeenOnTheWayEndsTheDrive)
   world.push_back({{6.0, 2.9, 0.0}, {6.5, 3.4, 0.05}});
   RobotSetup setup;
   setup.loop.max_steps = 30;
-  setup.loop.low_obstacle_replan = true;
+  setup.loop.low_obstacle_replan = mission::ExplorationLoopParams::Switch::On;
   std::size_t hits_on = 0, hits_off = 0;
   const auto on = exploreTwoRooms(setup, nullptr, world, &hits_on);
-  setup.loop.low_obstacle_replan = false;
+  setup.loop.low_obstacle_replan = mission::ExplorationLoopParams::Switch::Off;
   const auto off = exploreTwoRooms(setup, nullptr, world, &hits_off);
   std::cout << "on: " << hits_on << " collisions, " << on.low_obstacle_replans << " replans, "
             << on.termination_reason << "; off: " << hits_off << " collisions, "
@@ -501,6 +502,48 @@ TEST(ExplorationLoop, ALowObstacleSeenOnTheWayEndsTheDrive)
   EXPECT_NE(on.termination_reason, "max_steps");
   EXPECT_EQ(off.low_obstacle_replans, 0u);
   EXPECT_GT(hits_off, 0u) << "the plate is not on a path planned before it was seen";
+}
+
+TEST(ExplorationLoop, LowObstacleReplanAutoIsOnWithExactFootprintMargins)
+{
+  // "auto": on where the planner plans with the footprint and exact margins
+  // (the compact robot), off with trimmed margins (the omniRob) or the circle.
+  using Switch = mission::ExplorationLoopParams::Switch;
+  mission::ExplorationLoopParams p;
+  ASSERT_EQ(p.low_obstacle_replan, Switch::Auto);
+  exploration::CollisionParams compact;
+  compact.model = exploration::CollisionParams::Model::Footprint;
+  compact.footprint_length_m = 0.50;
+  compact.footprint_width_m = 0.36;
+  EXPECT_TRUE(p.lowObstacleReplanInForce(compact, 0.05));
+  exploration::CollisionParams omni;  // the omniRob's rectangle: trimmed
+  omni.model = exploration::CollisionParams::Model::Footprint;
+  EXPECT_FALSE(p.lowObstacleReplanInForce(omni, 0.05));
+  compact.model = exploration::CollisionParams::Model::Circle;
+  EXPECT_FALSE(p.lowObstacleReplanInForce(compact, 0.05));
+  p.low_obstacle_replan = Switch::On;
+  EXPECT_TRUE(p.lowObstacleReplanInForce(omni, 0.05));
+  // The ini: auto / true / false round-trip; anything else names the key.
+  mrpt::config::CConfigFileMemory m;
+  m.write("explore", "low_obstacle_replan", "false");
+  p.loadFromConfigFile(m, "explore");
+  EXPECT_EQ(p.low_obstacle_replan, Switch::Off);
+  m.write("explore", "low_obstacle_replan", "auto");
+  p.loadFromConfigFile(m, "explore");
+  EXPECT_EQ(p.low_obstacle_replan, Switch::Auto);
+  mrpt::config::CConfigFileMemory saved;
+  p.saveToConfigFile(saved, "explore");
+  EXPECT_EQ(saved.read_string("explore", "low_obstacle_replan", ""), "auto");
+  m.write("explore", "low_obstacle_replan", "sometimes");
+  try
+  {
+    p.loadFromConfigFile(m, "explore");
+    ADD_FAILURE() << "'sometimes' was accepted";
+  }
+  catch (const std::exception& e)
+  {
+    EXPECT_NE(std::string(e.what()).find("low_obstacle_replan"), std::string::npos) << e.what();
+  }
 }
 
 TEST(ExplorationLoop, StagnationWaitsWhileAFrontierWasNeverPlanned)

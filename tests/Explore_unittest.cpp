@@ -169,7 +169,7 @@ TEST(Explore, SameSeedGivesTheSameSummary)
   {
     auto o = options(outDir(name));
     o.seed = 7;
-    o.max_steps = 4;  // the omniRob's footprint (model = auto) explores the room in 6
+    o.max_steps = 4;  // the omniRob's footprint (the default model) explores the room in 6
     apps::ExploreApp{}.execute(o);
     auto j = readJson(fs::path(o.out_dir) / "summary.json");
     j.erase("compute_s");    // wall time

@@ -142,17 +142,20 @@ TEST(Planner, FrontierBehindTooNarrowGapIsNotPlanned)
   p.collision.model = CollisionParams::Model::Circle;  // the thesis
   const auto r = plan(V, CPose2D(-1.5, 0.0, 0.0), p);
   EXPECT_FALSE(r.ok()) << r.message;
-  // The default (model = auto) plans the omniRob's 1.54 m circle as its
-  // rectangle, which the 1.2 m doorway lets through.
+  // The default (model = footprint) plans the omniRob's rectangle, which
+  // the 1.2 m doorway lets through; so does auto (its 1.54 m circle).
   EXPECT_TRUE(PlannerParams{}.collision.usesFootprint(V.getResolution()));
   const auto fp = plan(V, CPose2D(-1.5, 0.0, 0.0), PlannerParams{});
   EXPECT_TRUE(fp.ok()) << fp.message;
-  // A compact robot's circle stays the thesis' under auto.
+  CollisionParams omni_auto;
+  omni_auto.model = CollisionParams::Model::Auto;
+  EXPECT_TRUE(omni_auto.usesFootprint(V.getResolution()));
+  // The compact robot plans its footprint by default, its circle under auto.
   CollisionParams compact;
   compact.r_coll_m = 0.31;
-  EXPECT_FALSE(compact.usesFootprint(V.getResolution()));
-  compact.model = CollisionParams::Model::Footprint;
   EXPECT_TRUE(compact.usesFootprint(V.getResolution()));
+  compact.model = CollisionParams::Model::Auto;
+  EXPECT_FALSE(compact.usesFootprint(V.getResolution()));
 }
 
 TEST(Planner, ParamsRoundTripAndErrors)
@@ -182,7 +185,8 @@ TEST(Planner, AutoFootprintMarginsFollowTheRobotsWidthAgainstTheDoor)
   // "auto" margins: exact (whole squares, cell centres) when the rectangle
   // with a cell lost at each jamb and the centres' spacing fits auto_door_m,
   // trimmed otherwise. At 5 cm the omniRob needs 0.712 + 0.04 + 0.15 = 0.902
-  // m (> 0.85: trimmed), the compact robot 0.36 + 0.04 + 0.15 = 0.55 m.
+  // m (> 0.85: trimmed), the compact robot 0.36 + 0.10 + 0.15 = 0.61 m (its
+  // "auto" margin is 0.05 m, see the next test).
   CollisionParams omni;
   ASSERT_EQ(omni.footprint_square_share, CollisionParams::kAuto);
   EXPECT_TRUE(omni.footprintTrimmed(0.05));
@@ -224,6 +228,64 @@ TEST(Planner, AutoFootprintMarginsFollowTheRobotsWidthAgainstTheDoor)
     EXPECT_NE(std::string(e.what()).find("footprint_square_share"), std::string::npos) << e.what();
   }
   m.write("collision", "footprint_square_share", "1.5");
+  EXPECT_THROW(loaded.loadFromConfigFile(m, "collision"), std::exception);
+}
+
+TEST(Planner, AutoFootprintMarginIsWiderWhereTheDoorLeavesRoom)
+{
+  // footprint_margin_m "auto": auto_margin_max_m (0.05) when the rectangle
+  // with it and exact margins still fits auto_door_m, else auto_margin_min_m
+  // (0.02). The omniRob: 0.712 + 0.10 + 0.15 = 0.962 > 0.85, so 0.02 (and
+  // trimmed, as before); the compact robot: 0.61 <= 0.85, so 0.05.
+  CollisionParams omni;
+  ASSERT_EQ(omni.footprint_margin_m, CollisionParams::kAuto);
+  EXPECT_DOUBLE_EQ(omni.marginInForce(0.05), 0.02);
+  EXPECT_NEAR(omni.exactDoorM(0.05), 0.902, 1e-12);
+  EXPECT_TRUE(omni.footprintTrimmed(0.05));
+  CollisionParams compact;
+  compact.footprint_length_m = 0.50;
+  compact.footprint_width_m = 0.36;
+  EXPECT_DOUBLE_EQ(compact.marginInForce(0.05), 0.05);
+  EXPECT_NEAR(compact.exactDoorM(0.05), 0.61, 1e-12);
+  EXPECT_FALSE(compact.footprintTrimmed(0.05));
+  // A door between the two needs: the narrow margin, still exact.
+  compact.auto_door_m = 0.60;
+  EXPECT_DOUBLE_EQ(compact.marginInForce(0.05), 0.02);
+  EXPECT_FALSE(compact.footprintTrimmed(0.05));
+  // The footprint space keeps the margin in force.
+  compact.model = CollisionParams::Model::Footprint;
+  compact.auto_door_m = 0.85;
+  compact.r_coll_m = std::hypot(0.25, 0.18);
+  const GroundGrid g = test::makeGround(-2.0, 2.0, -2.0, 2.0, 0.05, GroundState::Free);
+  const CollisionSpace cs = computeCollisionSpace(g, compact);
+  const FootprintSpace fs = computeFootprintSpace(g, cs, compact, CPose2D(0, 0, 0));
+  EXPECT_DOUBLE_EQ(fs.margin_m, 0.05);
+  // An explicit number wins.
+  compact.footprint_margin_m = 0.03;
+  EXPECT_DOUBLE_EQ(compact.marginInForce(0.05), 0.03);
+  // The ini: "auto" round-trips; a turn margin under the widest auto margin
+  // is an error naming the key.
+  mrpt::config::CConfigFileMemory m;
+  m.write("collision", "footprint_margin_m", "auto");
+  m.write("collision", "auto_margin_max_m", "0.04");
+  CollisionParams loaded;
+  loaded.loadFromConfigFile(m, "collision");
+  EXPECT_EQ(loaded.footprint_margin_m, CollisionParams::kAuto);
+  EXPECT_DOUBLE_EQ(loaded.auto_margin_max_m, 0.04);
+  mrpt::config::CConfigFileMemory saved;
+  loaded.saveToConfigFile(saved, "collision");
+  EXPECT_EQ(saved.read_string("collision", "footprint_margin_m", ""), "auto");
+  m.write("collision", "auto_margin_max_m", "0.08");
+  try
+  {
+    loaded.loadFromConfigFile(m, "collision");
+    ADD_FAILURE() << "a turn margin of 0.05 under auto_margin_max_m 0.08 was accepted";
+  }
+  catch (const std::exception& e)
+  {
+    EXPECT_NE(std::string(e.what()).find("footprint_turn_margin_m"), std::string::npos) << e.what();
+  }
+  m.write("collision", "auto_margin_max_m", "0.01");
   EXPECT_THROW(loaded.loadFromConfigFile(m, "collision"), std::exception);
 }
 

@@ -230,13 +230,20 @@ ExploreSummary ExploreApp::execute(const ExploreOptions& opts)
                                      col.plannerCircleDiameter(l_res), col.auto_footprint_above_m)
                       : std::string())
               << (col.usesFootprint(l_res)
-                      ? mrpt::format("; footprint squares %.2f of a cell, lateral slack %.3f m "
+                      ? mrpt::format("; footprint margin %.3f m, squares %.2f of a cell, "
+                                     "lateral slack %.3f m "
                                      "(auto: %s, the rectangle with whole squares needs %.3f m, "
                                      "auto_door_m %.2f m)",
-                                     col.squareShareInForce(l_res), col.lateralInForce(l_res),
+                                     col.marginInForce(l_res), col.squareShareInForce(l_res),
+                                     col.lateralInForce(l_res),
                                      col.footprintTrimmed(l_res) ? "trimmed" : "exact",
                                      col.exactDoorM(l_res), col.auto_door_m)
                       : std::string())
+              << "; low obstacles seen on the way "
+              << (cfg.explore.lowObstacleReplanInForce(col, l_res) ? "end a drive" : "do not end a drive")
+              << (cfg.explore.low_obstacle_replan == mission::ExplorationLoopParams::Switch::Auto
+                      ? " ([explore] low_obstacle_replan = auto: on with exact footprint margins)"
+                      : "")
               << std::endl;
   }
 

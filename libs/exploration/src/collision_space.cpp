@@ -166,9 +166,11 @@ CollisionParams::Model CollisionParams::modelInForce(double l_res_m) const
   return plannerCircleDiameter(l_res_m) > auto_footprint_above_m ? Model::Footprint : Model::Circle;
 }
 
-double CollisionParams::exactDoorM(double l_res_m) const
+double CollisionParams::marginInForce(double l_res_m) const
 {
-  return footprint_width_m + 2.0 * footprint_margin_m + 3.0 * l_res_m;
+  if (footprint_margin_m != kAuto) return footprint_margin_m;
+  return doorWithMargin(auto_margin_max_m, l_res_m) <= auto_door_m ? auto_margin_max_m
+                                                                   : auto_margin_min_m;
 }
 
 double CollisionParams::squareShareInForce(double l_res_m) const
@@ -216,7 +218,9 @@ void CollisionParams::loadFromConfigFile(const mrpt::config::CConfigFileBase& c,
   MRPT_LOAD_CONFIG_VAR(auto_footprint_above_m, double, c, s);
   common::requireValid(auto_footprint_above_m >= 0, c, s, "auto_footprint_above_m",
                        "must be >= 0");
-  MRPT_LOAD_CONFIG_VAR(footprint_margin_m, double, c, s);
+  footprint_margin_m = readAutoOrNumber(c, s, "footprint_margin_m", footprint_margin_m);
+  MRPT_LOAD_CONFIG_VAR(auto_margin_min_m, double, c, s);
+  MRPT_LOAD_CONFIG_VAR(auto_margin_max_m, double, c, s);
   MRPT_LOAD_CONFIG_VAR(footprint_turn_margin_m, double, c, s);
   MRPT_LOAD_CONFIG_VAR(yaw_bins, int, c, s);
   footprint_square_share = readAutoOrNumber(c, s, "footprint_square_share", footprint_square_share);
@@ -238,9 +242,15 @@ void CollisionParams::loadFromConfigFile(const mrpt::config::CConfigFileBase& c,
   common::requireValid(swept_passage_margin_m >= 0, c, s, "swept_passage_margin_m", "must be >= 0");
   common::requireValid(footprint_bin_span >= 0 && footprint_bin_span <= 1, c, s,
                        "footprint_bin_span", "must be in [0, 1]");
-  common::requireValid(footprint_margin_m >= 0, c, s, "footprint_margin_m", "must be >= 0");
-  common::requireValid(footprint_turn_margin_m >= footprint_margin_m, c, s,
-                       "footprint_turn_margin_m", "must be >= footprint_margin_m");
+  common::requireValid(footprint_margin_m == kAuto || footprint_margin_m >= 0, c, s,
+                       "footprint_margin_m", "must be auto or >= 0");
+  common::requireValid(auto_margin_min_m >= 0, c, s, "auto_margin_min_m", "must be >= 0");
+  common::requireValid(auto_margin_max_m >= auto_margin_min_m, c, s, "auto_margin_max_m",
+                       "must be >= auto_margin_min_m");
+  const double widest_margin = footprint_margin_m == kAuto ? auto_margin_max_m : footprint_margin_m;
+  common::requireValid(footprint_turn_margin_m >= widest_margin, c, s, "footprint_turn_margin_m",
+                       footprint_margin_m == kAuto ? "must be >= auto_margin_max_m"
+                                                   : "must be >= footprint_margin_m");
   common::requireValid(yaw_bins >= 2 && yaw_bins <= 64, c, s, "yaw_bins", "must be in 2..64");
 }
 
@@ -254,7 +264,9 @@ void CollisionParams::saveToConfigFile(mrpt::config::CConfigFileBase& c, const s
   MRPT_SAVE_CONFIG_VAR(low_obstacles_on_unknown, c, s);
   c.write(s, "model", toString(model));
   MRPT_SAVE_CONFIG_VAR(auto_footprint_above_m, c, s);
-  MRPT_SAVE_CONFIG_VAR(footprint_margin_m, c, s);
+  c.write(s, "footprint_margin_m", autoOrNumber(footprint_margin_m));
+  MRPT_SAVE_CONFIG_VAR(auto_margin_min_m, c, s);
+  MRPT_SAVE_CONFIG_VAR(auto_margin_max_m, c, s);
   MRPT_SAVE_CONFIG_VAR(footprint_turn_margin_m, c, s);
   MRPT_SAVE_CONFIG_VAR(yaw_bins, c, s);
   c.write(s, "footprint_square_share", autoOrNumber(footprint_square_share));

@@ -73,13 +73,13 @@ FootprintSpace computeFootprintSpace(
   fs.bins = p.yaw_bins;
   fs.length_m = p.footprint_length_m;
   fs.width_m = p.footprint_width_m;
-  fs.margin_m = p.footprint_margin_m;
   const auto& like = cs.state;
   const int nx = static_cast<int>(like.getSizeX()), ny = static_cast<int>(like.getSizeY());
   const std::size_t n = static_cast<std::size_t>(nx) * ny;
   const double res = like.getResolution();
+  fs.margin_m = p.marginInForce(res);
 
-  fs.turn_margin_m = std::max(p.footprint_turn_margin_m, p.footprint_margin_m);
+  fs.turn_margin_m = std::max(p.footprint_turn_margin_m, fs.margin_m);
   const double share = p.squareShareInForce(res);
   const double lateral = p.lateralInForce(res);
   const double span = p.footprint_bin_span;

@@ -47,7 +47,13 @@ void ExplorationLoopParams::loadFromConfigFile(const mrpt::config::CConfigFileBa
   MRPT_LOAD_CONFIG_VAR(max_plans_per_target, int, c, s);
   MRPT_LOAD_CONFIG_VAR(min_progress_m, double, c, s);
   MRPT_LOAD_CONFIG_VAR(approach_replanned, bool, c, s);
-  MRPT_LOAD_CONFIG_VAR(low_obstacle_replan, bool, c, s);
+  {
+    const std::string v = c.read_string(s, "low_obstacle_replan", "");
+    const bool on = v == "true" || v == "1" || v == "yes", off = v == "false" || v == "0" || v == "no";
+    common::requireValid(v.empty() || v == "auto" || on || off, c, s, "low_obstacle_replan",
+                         "expected auto, true or false");
+    if (!v.empty()) low_obstacle_replan = on ? Switch::On : off ? Switch::Off : Switch::Auto;
+  }
   MRPT_LOAD_CONFIG_VAR(stagnation_new_frontier_guard, bool, c, s);
   MRPT_LOAD_CONFIG_VAR(stagnation_steps, int, c, s);
   MRPT_LOAD_CONFIG_VAR(stagnation_min_gain_m2, double, c, s);
@@ -68,6 +74,13 @@ void ExplorationLoopParams::loadFromConfigFile(const mrpt::config::CConfigFileBa
                        "must be >= 1");
 }
 
+bool ExplorationLoopParams::lowObstacleReplanInForce(const exploration::CollisionParams& col,
+                                                     double l_res_m) const
+{
+  if (low_obstacle_replan != Switch::Auto) return low_obstacle_replan == Switch::On;
+  return col.usesFootprint(l_res_m) && !col.footprintTrimmed(l_res_m);
+}
+
 void ExplorationLoopParams::saveToConfigFile(mrpt::config::CConfigFileBase& c,
                                              const std::string& s) const
 {
@@ -77,7 +90,10 @@ void ExplorationLoopParams::saveToConfigFile(mrpt::config::CConfigFileBase& c,
   MRPT_SAVE_CONFIG_VAR(max_plans_per_target, c, s);
   MRPT_SAVE_CONFIG_VAR(min_progress_m, c, s);
   MRPT_SAVE_CONFIG_VAR(approach_replanned, c, s);
-  MRPT_SAVE_CONFIG_VAR(low_obstacle_replan, c, s);
+  c.write(s, "low_obstacle_replan",
+          low_obstacle_replan == Switch::Auto ? "auto"
+          : low_obstacle_replan == Switch::On ? "true"
+                                              : "false");
   MRPT_SAVE_CONFIG_VAR(stagnation_new_frontier_guard, c, s);
   MRPT_SAVE_CONFIG_VAR(stagnation_steps, c, s);
   MRPT_SAVE_CONFIG_VAR(stagnation_min_gain_m2, c, s);
@@ -135,7 +151,8 @@ ExplorationLoop::ExplorationLoop(
       posed_(std::make_unique<PosedRobot>(robot, *this)),
       driver_(std::make_unique<navigation::StopAndScanDriver>(*posed_, driver)),
       t_start_(clock.now()),
-      odo_at_stop_(robot.odometry())
+      odo_at_stop_(robot.odometry()),
+      low_replan_(params.lowObstacleReplanInForce(planner.collision, slam.octomap.l_res_m))
 {
 }
 
@@ -316,7 +333,7 @@ ExplorationLoop::Drive ExplorationLoop::driveWaypoints(const exploration::PlanRe
     // Not twice without the robot moving in between: a new plan ended at
     // its first stop, standing, again and again, would never drive.
     const bool moved = status_.path_length_m - path_at_interrupt_ >= params_.min_progress_m;
-    if (!last && params_.low_obstacle_replan && moved && lowObstacleAhead(plan, i + 1))
+    if (!last && low_replan_ && moved && lowObstacleAhead(plan, i + 1))
     {
       path_at_interrupt_ = status_.path_length_m;
       status_.low_obstacle_replans++;

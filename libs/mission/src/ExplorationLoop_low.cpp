@@ -14,11 +14,12 @@ namespace
 {
 /// The key of the cell holding (x, y): LowObstacleGrid's cells are
 /// floor(coordinate / res), its obstacles their centres.
-std::int64_t cellKey(const Eigen::Vector2d& p, double res)
+std::uint64_t cellKey(const Eigen::Vector2d& p, double res)
 {
-  const auto ix = static_cast<std::int64_t>(std::floor(p.x() / res));
-  const auto iy = static_cast<std::int64_t>(std::floor(p.y() / res));
-  return (iy << 32) ^ (ix & 0xffffffffLL);
+  // Unsigned: a left shift of a negative index is undefined (UBSan).
+  const auto ix = static_cast<std::uint64_t>(static_cast<std::int64_t>(std::floor(p.x() / res)));
+  const auto iy = static_cast<std::uint64_t>(static_cast<std::int64_t>(std::floor(p.y() / res)));
+  return (iy << 32) ^ (ix & 0xffffffffULL);
 }
 
 /// Distance from p to the segment a-b [m].
@@ -49,7 +50,7 @@ bool ExplorationLoop::lowObstacleAhead(const exploration::PlanResult& plan,
   // The body may turn anywhere on the way (MRPT's navigator between narrow
   // waypoints): its circumcircle, the planner's margin, and the cell's own
   // half diagonal.
-  const double reach = planner_.collision.r_coll_m + planner_.collision.footprint_margin_m +
+  const double reach = planner_.collision.r_coll_m + planner_.collision.marginInForce(res) +
                        res * std::sqrt(0.5);
   const mrpt::poses::CPose2D here = poseEstimate();
   const Eigen::Vector2d start(here.x(), here.y());

@@ -146,18 +146,28 @@ struct ExplorationLoopParams : public mrpt::config::CLoadableOptions
   /// cells ([octomap] low_obstacle_*) the map did not hold when the path
   /// was planned and the planner would stamp (exploration::stampObstacles'
   /// rule on the plan's G), closer to the rest of the path than the robot's
-  /// circumradius plus footprint_margin_m and half a cell's diagonal, end
+  /// circumradius plus the footprint margin (marginInForce) and half a cell's diagonal, end
   /// the drive, and the loop plans again (not a failure, not a plan of the
   /// target counted; not twice without the robot moving min_progress_m in
   /// between). The cameras see no floor within ~0.9 m of their rim:
   /// a table's 5 cm base plate seen on the approach is out of their view,
   /// and the guard's, when the body reaches it (turtlebot3_house, compact
   /// footprint, nearest: a collision planned before the plate was seen).
-  /// false (the default) = drive the plan to its end. Off by default: on
-  /// the omniRob's buildings it ended 28 drives a run and cost b5 nearest
-  /// 0.980 -> 0.949 (twenty-fifth session); on with model = footprint for
-  /// the compact robot in houses with table bases.
-  bool low_obstacle_replan = false;
+  /// Off = drive the plan to its end. Auto (the default, ini "auto"): on
+  /// where the planner plans with the footprint and exact margins
+  /// (CollisionParams::footprintTrimmed false: the compact robot), off
+  /// elsewhere: on the omniRob's buildings it ended 28 drives a run and
+  /// cost b5 nearest 0.980 -> 0.949 (twenty-fifth session).
+  enum class Switch
+  {
+    Off,
+    On,
+    Auto
+  };
+  Switch low_obstacle_replan = Switch::Auto;
+  /// @brief low_obstacle_replan resolved for the planner's collision
+  ///        parameters on a map of resolution l_res_m.
+  bool lowObstacleReplanInForce(const exploration::CollisionParams& col, double l_res_m) const;
 
   void loadFromConfigFile(const mrpt::config::CConfigFileBase& c, const std::string& s) override;
   void saveToConfigFile(mrpt::config::CConfigFileBase& c, const std::string& s) const override;
@@ -335,9 +345,11 @@ class ExplorationLoop
   /// Points drives were blocked by that the map may not hold (map frame).
   std::vector<Eigen::Vector2d> sensed_obstacles_;
   /// Cell keys of the low obstacles the current plan was made with (sorted).
-  std::vector<std::int64_t> low_at_plan_;
+  std::vector<std::uint64_t> low_at_plan_;
   /// path_length_m when low_obstacle_replan last ended a drive [m]
   double path_at_interrupt_ = -std::numeric_limits<double>::infinity();
+  /// params_.low_obstacle_replan resolved (lowObstacleReplanInForce).
+  bool low_replan_ = false;
   ExplorationStatus status_;
 };
 
