@@ -22,6 +22,8 @@
 #include <stdexcept>
 #include <vector>
 
+#include "expect_error.h"
+
 namespace
 {
 using namespace voxplore;
@@ -535,15 +537,8 @@ TEST(ExplorationLoop, LowObstacleReplanAutoIsOnWithExactFootprintMargins)
   p.saveToConfigFile(saved, "explore");
   EXPECT_EQ(saved.read_string("explore", "low_obstacle_replan", ""), "auto");
   m.write("explore", "low_obstacle_replan", "sometimes");
-  try
-  {
-    p.loadFromConfigFile(m, "explore");
-    ADD_FAILURE() << "'sometimes' was accepted";
-  }
-  catch (const std::exception& e)
-  {
-    EXPECT_NE(std::string(e.what()).find("low_obstacle_replan"), std::string::npos) << e.what();
-  }
+  test::expectErrorNaming([&] { p.loadFromConfigFile(m, "explore"); }, "low_obstacle_replan",
+                          "'sometimes'");
 }
 
 TEST(ExplorationLoop, StagnationWaitsWhileAFrontierWasNeverPlanned)

@@ -11,6 +11,7 @@
 #include <fstream>
 
 #include "exploration_test_maps.h"
+#include "expect_error.h"
 #include "test_worlds.h"
 
 using namespace voxplore;
@@ -218,15 +219,8 @@ TEST(Planner, AutoFootprintMarginsFollowTheRobotsWidthAgainstTheDoor)
   loaded.saveToConfigFile(saved, "collision");
   EXPECT_EQ(saved.read_string("collision", "footprint_square_share", ""), "auto");
   m.write("collision", "footprint_square_share", "half");
-  try
-  {
-    loaded.loadFromConfigFile(m, "collision");
-    ADD_FAILURE() << "'half' was accepted";
-  }
-  catch (const std::exception& e)
-  {
-    EXPECT_NE(std::string(e.what()).find("footprint_square_share"), std::string::npos) << e.what();
-  }
+  test::expectErrorNaming([&] { loaded.loadFromConfigFile(m, "collision"); },
+                          "footprint_square_share", "'half'");
   m.write("collision", "footprint_square_share", "1.5");
   EXPECT_THROW(loaded.loadFromConfigFile(m, "collision"), std::exception);
 }
@@ -276,15 +270,9 @@ TEST(Planner, AutoFootprintMarginIsWiderWhereTheDoorLeavesRoom)
   loaded.saveToConfigFile(saved, "collision");
   EXPECT_EQ(saved.read_string("collision", "footprint_margin_m", ""), "auto");
   m.write("collision", "auto_margin_max_m", "0.08");
-  try
-  {
-    loaded.loadFromConfigFile(m, "collision");
-    ADD_FAILURE() << "a turn margin of 0.05 under auto_margin_max_m 0.08 was accepted";
-  }
-  catch (const std::exception& e)
-  {
-    EXPECT_NE(std::string(e.what()).find("footprint_turn_margin_m"), std::string::npos) << e.what();
-  }
+  test::expectErrorNaming([&] { loaded.loadFromConfigFile(m, "collision"); },
+                          "footprint_turn_margin_m",
+                          "a turn margin of 0.05 under auto_margin_max_m 0.08");
   m.write("collision", "auto_margin_max_m", "0.01");
   EXPECT_THROW(loaded.loadFromConfigFile(m, "collision"), std::exception);
 }
