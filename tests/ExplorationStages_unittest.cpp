@@ -156,6 +156,32 @@ TEST(Projection, ColumnStatesFromTheVoxelsInTheBandOnly)
   EXPECT_EQ(at(g.state, -0.95, -1.05), GroundState::Unknown) << "never observed";
 }
 
+TEST(Projection, AnObstacleBandAboveTheBandAddsOccupiedColumnsOnly)
+{
+  // obstacle_z_max_m 0.60: an occupied voxel at 0.50-0.60 makes its column
+  // Occupied; the unknown everywhere above 0.50 (nothing was observed there)
+  // leaves the band's Free columns Free; above 0.60 nothing counts.
+  octomap::OcTree t(kRes);
+  fillBox(t, -3.0, -1.0, -2.0, 0.0, 0.1, 0.5, freeLog(t));
+  fillBox(t, -1.6, -1.5, -1.6, -1.5, 0.5, 0.6, occLog(t));  // D: just above z_max
+  fillBox(t, -2.6, -2.5, -0.6, -0.5, 0.6, 0.7, occLog(t));  // H: above obstacle_z_max
+  fillBox(t, -1.3, -1.2, -0.6, -0.5, 0.5, 0.6, freeLog(t));  // I: free above the band
+  ProjectionParams p;
+  const GroundGrid off = projectToGround(t, CPose2D(-2.05, -1.05, 0), p);
+  EXPECT_EQ(at(off.state, -1.55, -1.55), GroundState::Free) << "the thesis: D is above the band";
+  p.obstacle_z_max_m = 0.60;
+  const GroundGrid on = projectToGround(t, CPose2D(-2.05, -1.05, 0), p);
+  EXPECT_EQ(at(on.state, -1.55, -1.55), GroundState::Occupied);
+  EXPECT_EQ(at(on.state, -2.55, -0.55), GroundState::Free);
+  EXPECT_EQ(at(on.state, -1.25, -0.55), GroundState::Free);
+  EXPECT_EQ(at(on.state, -2.05, -1.05), GroundState::Free);
+  // Every other column as without it.
+  std::size_t differ = 0;
+  for (std::size_t i = 0; i < on.state.data().size(); ++i)
+    differ += on.state.data()[i] != off.state.data()[i];
+  EXPECT_EQ(differ, 1u);
+}
+
 // An exploration region: the columns outside the polygon are Occupied
 // (virtual walls), those inside as before; the robot's own column stays free.
 TEST(Projection, ColumnsOutsideTheRegionAreOccupied)

@@ -282,6 +282,7 @@ void ProjectionParams::loadFromConfigFile(const mrpt::config::CConfigFileBase& c
 {
   MRPT_LOAD_CONFIG_VAR(z_min_m, double, c, s);
   MRPT_LOAD_CONFIG_VAR(z_max_m, double, c, s);
+  MRPT_LOAD_CONFIG_VAR(obstacle_z_max_m, double, c, s);
   MRPT_LOAD_CONFIG_VAR(th_free, int, c, s);
   MRPT_LOAD_CONFIG_VAR(th_occ, int, c, s);
   MRPT_LOAD_CONFIG_VAR(margin_m, double, c, s);
@@ -316,6 +317,7 @@ void ProjectionParams::saveToConfigFile(mrpt::config::CConfigFileBase& c,
 {
   MRPT_SAVE_CONFIG_VAR(z_min_m, c, s);
   MRPT_SAVE_CONFIG_VAR(z_max_m, c, s);
+  MRPT_SAVE_CONFIG_VAR(obstacle_z_max_m, c, s);
   MRPT_SAVE_CONFIG_VAR(th_free, c, s);
   MRPT_SAVE_CONFIG_VAR(th_occ, c, s);
   MRPT_SAVE_CONFIG_VAR(margin_m, c, s);
@@ -356,7 +358,18 @@ GroundGrid projectToGround(const octomap::OcTree& V, const mrpt::poses::CPose2D&
   ASSERT_EQUAL_(G.state.getSizeY(), static_cast<std::size_t>(box.hi[1] - box.lo[1]));
   G.robot = {robot_key[0] - box.lo[0], robot_key[1] - box.lo[1]};
 
-  const ColumnTally tally = tallyColumns(V, box, p.th_free / 255.0, p.th_occ / 255.0);
+  ColumnTally tally = tallyColumns(V, box, p.th_free / 255.0, p.th_occ / 255.0);
+  const int kz_ob = k0 + static_cast<int>(std::floor(p.obstacle_z_max_m / res - 0.5 + 1e-9));
+  if (kz_ob > kz_hi)
+  {
+    // Only the occupied columns of the band above: its free / unknown voxels
+    // count for nothing.
+    KeyBox above = box;
+    above.lo[2] = kz_hi + 1;
+    above.hi[2] = kz_ob + 1;
+    const ColumnTally up = tallyColumns(V, above, p.th_free / 255.0, p.th_occ / 255.0);
+    for (std::size_t i = 0; i < tally.occupied.size(); ++i) tally.occupied[i] |= up.occupied[i];
+  }
   floodFill(tally, kz_hi - kz_lo + 1, outsideMask(G, p.region),
             sweptMask(G, swept, p), G);
   return G;

@@ -31,6 +31,12 @@ struct ProjectionParams : public mrpt::config::CLoadableOptions
 {
   double z_min_m = 0.10;  ///< voxels of a column from this height (floor excluded) [m]
   double z_max_m = 0.50;  ///< ... up to this height [m]
+  /// Occupied voxels from z_max_m up to this height make their column
+  /// Occupied too; unknown ones there do not make it Unknown (the Free rule
+  /// stays the band's): what the cameras see between the band and their
+  /// ring (0.60 m) is kept off the body, what they cannot see does not
+  /// close the floor. <= z_max_m: off (the thesis) [m].
+  double obstacle_z_max_m = 0;
   int th_free = 70;       ///< free below (0..255 scale, p = value/255)
   int th_occ = 240;       ///< occupied above (0..255 scale)
   double margin_m = 1.0;  ///< grid extends this far past the map's bounds [m]
