@@ -117,14 +117,16 @@ struct CollisionParams : public mrpt::config::CLoadableOptions
   /// for it. 0: cell centres only; kAuto (ini "auto", the default): half a
   /// cell when footprintTrimmed(), else 0 [m].
   double footprint_lateral_m = kAuto;
-  /// footprint_square_share / footprint_lateral_m "auto": the value resolved
-  /// at the map's resolution (squareShareInForce, lateralInForce).
+  /// footprint_margin_m / footprint_square_share / footprint_lateral_m
+  /// "auto": the value resolved at the map's resolution (marginInForce,
+  /// squareShareInForce, lateralInForce).
   static constexpr double kAuto = -1.0;
   /// "auto" margins: the narrowest door the robot must pass [m]. Exact
   /// margins (whole squares, cell centres) while exactDoorM fits it, else
   /// trimmed (half squares, half a cell sideways): the omniRob needs 0.902
-  /// m at 5 cm (trimmed), the compact robot 0.55 m (exact: trimmed it hit
-  /// furniture legs, aws_small_house nearest 5 collisions, exact 0).
+  /// m at 5 cm (trimmed), the compact robot 0.61 m with its 5 cm margin
+  /// (exact: trimmed it hit furniture legs, aws_small_house nearest 5
+  /// collisions, exact 0).
   double auto_door_m = 0.85;
   /// @brief The door the rectangle needs with exact margins on a map of
   ///        resolution l_res_m: footprint_width_m + 2 margin + 3 l_res_m,
