@@ -123,6 +123,14 @@ void assertKnownSections(
   }
 }
 
+std::optional<bool> parseBoolWord(const std::string& text)
+{
+  const std::string v = trim(text);
+  if (v == "true" || v == "1" || v == "yes") return true;
+  if (v == "false" || v == "0" || v == "no") return false;
+  return std::nullopt;
+}
+
 void assertNumericValues(
     const mrpt::config::CConfigFileBase& cfg, const std::string& section,
     const mrpt::config::CLoadableOptions& params)
@@ -138,9 +146,8 @@ void assertNumericValues(
     const auto val = trim(cfg.read_string(section, k, ""));
     if (def == "true" || def == "false")
     {
-      const bool ok = val == "true" || val == "false" || val == "1" || val == "0" ||
-                      val == "yes" || val == "no";
-      requireValid(ok, cfg, section, k, "expected a boolean (true/false)");
+      requireValid(parseBoolWord(val).has_value(), cfg, section, k,
+                   "expected a boolean (true/false)");
     }
     else if (parsesAsNumber(def))
     {

@@ -339,7 +339,10 @@ GroundGrid projectToGround(const octomap::OcTree& V, const mrpt::poses::CPose2D&
   // Voxels whose centre z = (k - k0 + 0.5) res lies in [z_min, z_max].
   const int k0 = V.coordToKey(0.0);
   const int kz_lo = k0 + static_cast<int>(std::ceil(p.z_min_m / res - 0.5 - 1e-9));
-  const int kz_hi = k0 + static_cast<int>(std::floor(p.z_max_m / res - 0.5 + 1e-9));
+  // The key of the highest voxel whose centre lies at or below z.
+  const auto topKey = [&](double z)
+  { return k0 + static_cast<int>(std::floor(z / res - 0.5 + 1e-9)); };
+  const int kz_hi = topKey(p.z_max_m);
   ASSERTMSG_(
       kz_hi >= kz_lo && kz_hi - kz_lo < 65535,
       mrpt::format("projectToGround: no voxel centre lies in [z_min_m, z_max_m] = [%g, %g] at "
@@ -359,7 +362,7 @@ GroundGrid projectToGround(const octomap::OcTree& V, const mrpt::poses::CPose2D&
   G.robot = {robot_key[0] - box.lo[0], robot_key[1] - box.lo[1]};
 
   ColumnTally tally = tallyColumns(V, box, p.th_free / 255.0, p.th_occ / 255.0);
-  const int kz_ob = k0 + static_cast<int>(std::floor(p.obstacle_z_max_m / res - 0.5 + 1e-9));
+  const int kz_ob = topKey(p.obstacle_z_max_m);
   if (kz_ob > kz_hi)
   {
     // Only the occupied columns of the band above: its free / unknown voxels

@@ -47,12 +47,12 @@ void ExplorationLoopParams::loadFromConfigFile(const mrpt::config::CConfigFileBa
   MRPT_LOAD_CONFIG_VAR(max_plans_per_target, int, c, s);
   MRPT_LOAD_CONFIG_VAR(min_progress_m, double, c, s);
   MRPT_LOAD_CONFIG_VAR(approach_replanned, bool, c, s);
+  if (const std::string v = c.read_string(s, "low_obstacle_replan", ""); !v.empty())
   {
-    const std::string v = c.read_string(s, "low_obstacle_replan", "");
-    const bool on = v == "true" || v == "1" || v == "yes", off = v == "false" || v == "0" || v == "no";
-    common::requireValid(v.empty() || v == "auto" || on || off, c, s, "low_obstacle_replan",
+    const std::optional<bool> b = common::parseBoolWord(v);
+    common::requireValid(v == "auto" || b.has_value(), c, s, "low_obstacle_replan",
                          "expected auto, true or false");
-    if (!v.empty()) low_obstacle_replan = on ? Switch::On : off ? Switch::Off : Switch::Auto;
+    low_obstacle_replan = !b ? Switch::Auto : *b ? Switch::On : Switch::Off;
   }
   MRPT_LOAD_CONFIG_VAR(stagnation_new_frontier_guard, bool, c, s);
   MRPT_LOAD_CONFIG_VAR(stagnation_steps, int, c, s);

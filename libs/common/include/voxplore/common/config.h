@@ -10,6 +10,7 @@
 #include <mrpt/config/CLoadableOptions.h>
 
 #include <memory>
+#include <optional>
 #include <set>
 #include <string>
 #include <vector>
@@ -49,6 +50,10 @@ std::unique_ptr<mrpt::config::CConfigFileBase> openIniFile(const std::string& pa
 /// @brief Parses a whitespace/comma separated list of numbers.
 /// @throws std::runtime_error naming `what` when a token is not a number.
 std::vector<double> parseNumberList(const std::string& text, const std::string& what);
+
+/// @brief An ini boolean word (surrounding blanks ignored): true for true / 1
+///        / yes, false for false / 0 / no, nothing for anything else.
+std::optional<bool> parseBoolWord(const std::string& text);
 
 /// @brief Reads a double key strictly: missing -> default, unparsable -> throw
 ///        naming file, section and key.
