@@ -942,3 +942,66 @@ TEST(FootprintSpace, ARobotWedgedAtASkewInADoorStraightensAndBacksOut)
   std::string missing;
   EXPECT_EQ(goalsWithoutPath(pl, f.robot, 7, goals, missing), 0u) << "of " << goals << ":" << missing;
 }
+
+TEST(FootprintSpace, LayersRecycledFromAnotherSpaceGiveTheSameSpaceAsFreshOnes)
+{
+  // The planner hands a step's layers back (recycleFootprintSpace) and the
+  // next space is written into them: nothing of the old space may remain.
+  GroundGrid g = twoRoomsWithADoor(0.90);
+  const CPose2D start(-1.5, 0.3, M_PI / 2);
+  const Planned fresh = footprintSpaceOf(g, start);
+  {
+    // Spares from another map of the same extent (the far room shut off,
+    // another pose) and from a smaller one.
+    GroundGrid other = twoRoomsWithADoor(0.70);
+    Planned a = footprintSpaceOf(other, CPose2D(-1.0, -0.5, 0.3));
+    GroundGrid small = makeGround(-1.0, 1.0, -1.0, 1.0, kRes, GroundState::Free);
+    Planned b = footprintSpaceOf(small, CPose2D(0.0, 0.0, 0.0));
+    recycleFootprintSpace(std::move(a.fs));
+    recycleFootprintSpace(std::move(b.fs));
+    EXPECT_EQ(a.fs.clear.getSizeX(), 0u);
+    EXPECT_TRUE(a.fs.reach.data().empty());
+  }
+  const Planned again = footprintSpaceOf(g, start);
+  const auto same = [](const Grid<YawMask>& x, const Grid<YawMask>& y)
+  {
+    return x.getSizeX() == y.getSizeX() && x.getSizeY() == y.getSizeY() &&
+           x.getXMin() == y.getXMin() && x.getYMin() == y.getYMin() && x.data() == y.data();
+  };
+  EXPECT_TRUE(same(again.fs.clear_occ, fresh.fs.clear_occ));
+  EXPECT_TRUE(same(again.fs.clear, fresh.fs.clear));
+  EXPECT_TRUE(same(again.fs.clear_turn, fresh.fs.clear_turn));
+  EXPECT_TRUE(same(again.fs.reach, fresh.fs.reach));
+  EXPECT_TRUE(same(again.fs.escape, fresh.fs.escape));
+}
+
+TEST(FootprintSpace, AStartOnACellBorderStartsAtTheSpacesRobotCell)
+{
+  // projectToGround takes the robot's cell from its OctoMap key, and a
+  // coordinate on a cell border may round the other way there than in
+  // cellOf. The path from that pose starts at the space's robot cell (and so
+  // shares the step's heuristic, computed from it).
+  GroundGrid g = twoRoomsWithADoor(0.90);
+  Cell c;
+  ASSERT_TRUE(cellOf(g.state, Eigen::Vector2d(-1.5, 0.0), c));
+  const Eigen::Vector2d centre = cellCenter(g.state, c);
+  const CPose2D start(centre.x() + 0.5 * kRes, centre.y(), 0.0);  // on c's east border
+  Cell by_cellof;
+  ASSERT_TRUE(cellOf(g.state, Eigen::Vector2d(start.x(), start.y()), by_cellof));
+  // The key's cell: the other side of the border.
+  g.robot = by_cellof.cx == c.cx ? Cell{c.cx + 1, c.cy} : c;
+  Planned pl;
+  pl.cs = computeCollisionSpace(g, omniRob());
+  pl.fs = computeFootprintSpace(g, pl.cs, omniRob(), start);
+  applyFootprint(pl.cs, pl.fs);
+  ASSERT_NE(pl.fs.robot, by_cellof);
+  const Eigen::Vector2d goal(1.6, 0.0);
+  const auto h = footprintCostFromStart(pl.cs, pl.fs, PathParams{});
+  const auto shared = planFootprintPath(pl.cs, pl.fs, start, goal, 0.0, PathParams{}, &h);
+  const auto own = planFootprintPath(pl.cs, pl.fs, start, goal, 0.0, PathParams{});
+  ASSERT_TRUE(shared);
+  ASSERT_TRUE(own);
+  EXPECT_NEAR((shared->cells_path.front() - cellCenter(g.state, pl.fs.robot)).norm(), 0.0, 1e-9);
+  EXPECT_EQ(shared->cells_path, own->cells_path);
+  expectNeverClips(g, *shared);
+}

@@ -282,8 +282,15 @@ PlanResult plan(
   auto space = std::make_shared<CollisionSpace>(computeCollisionSpace(*ground, p.collision));
   if (p.collision.usesFootprint(ground->state.getResolution()))
   {
-    auto fs = std::make_shared<FootprintSpace>(
-        computeFootprintSpace(*ground, *space, p.collision, robot, swept));
+    // Its layers go back to computeFootprintSpace's spares when the last
+    // holder of this plan lets go (the step after next reuses them).
+    std::shared_ptr<FootprintSpace> fs(
+        new FootprintSpace(computeFootprintSpace(*ground, *space, p.collision, robot, swept)),
+        [](FootprintSpace* f)
+        {
+          recycleFootprintSpace(std::move(*f));
+          delete f;
+        });
     applyFootprint(*space, *fs);
     r.footprint = fs;
   }

@@ -72,6 +72,17 @@ std::optional<Path> planFootprintPath(
   Cell sc, tc;
   const Eigen::Vector2d start_xy(start.x(), start.y());
   if (!cellOf(cs.state, start_xy, sc) || !cellOf(cs.state, goal, tc)) return std::nullopt;
+  {
+    // The FootprintSpace's robot cell is the octomap key of the robot's
+    // position (projectToGround), and cellOf may round a coordinate on a
+    // cell border the other way: a start at that position starts there,
+    // and shares the heuristic computed from it (else every candidate of the
+    // step ran its own Dijkstra: 26 % of the path's time on b10).
+    const Eigen::Vector2d rc = cellCenter(cs.state, fs.robot);
+    const double half = 0.5 * cs.state.getResolution() + 1e-9;
+    if (std::abs(start_xy.x() - rc.x()) <= half && std::abs(start_xy.y() - rc.y()) <= half)
+      sc = fs.robot;
+  }
   SE2Search search(cs, fs, p);
   const std::size_t s_cell = static_cast<std::size_t>(sc.cx) + static_cast<std::size_t>(sc.cy) * search.nx;
   const std::size_t t_cell = static_cast<std::size_t>(tc.cx) + static_cast<std::size_t>(tc.cy) * search.nx;

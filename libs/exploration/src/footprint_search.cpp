@@ -19,7 +19,25 @@ namespace
 constexpr double kSqrt2 = 1.4142135623730951;
 constexpr int kDx[8] = {1, -1, 0, 0, 1, 1, -1, -1};
 constexpr int kDy[8] = {0, 0, 1, -1, 1, -1, 1, -1};
+
+/// SE2Search's buffers between searches (one set per thread).
+thread_local std::vector<int32_t> t_block;
+thread_local std::vector<Node> t_nodes;
 }  // namespace
+
+void SE2Search::takeScratch()
+{
+  block.swap(t_block);
+  nodes.swap(t_nodes);
+}
+
+void SE2Search::giveScratch()
+{
+  // The larger buffers stay (a search still alive on this thread may hold
+  // the spare ones).
+  if (block.capacity() > t_block.capacity()) block.swap(t_block);
+  if (nodes.capacity() > t_nodes.capacity()) nodes.swap(t_nodes);
+}
 
 bool SE2Search::mayTranslate(int cx, int cy, int k, int bin) const
 {

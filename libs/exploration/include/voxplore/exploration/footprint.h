@@ -103,6 +103,11 @@ FootprintSpace computeFootprintSpace(
     const GroundGrid& g, const CollisionSpace& cs, const CollisionParams& p,
     const mrpt::poses::CPose2D& robot, const SweptPath& swept = {});
 
+/// @brief Keeps `fs`'s layers (left empty) for the next computeFootprintSpace
+///        on this thread: it fills them in place instead of faulting in
+///        fresh pages. Up to five layers are kept (the memory of one space).
+void recycleFootprintSpace(FootprintSpace&& fs);
+
 /// @brief Footprint model: the states of cs become those of the rectangle.
 ///        Free: some bin reached (the robot can stand there); MaybeCollision:
 ///        not reached, some bin clear of occupied cells but none clear of open

@@ -39,6 +39,28 @@ class Grid : public mrpt::containers::CDynamicGrid<T>
   }
   ~Grid() override = default;
 
+  /// @brief Hands the cells' storage over (capacity kept) and leaves the grid
+  ///        0 x 0, as a move does: for storage kept for a later grid.
+  std::vector<T> releaseStorage() noexcept
+  {
+    std::vector<T> out;
+    out.swap(this->m_map);
+    this->m_size_x = this->m_size_y = 0;
+    this->m_x_max = this->m_x_min;
+    this->m_y_max = this->m_y_min;
+    return out;
+  }
+
+  /// @brief setSize with `like`'s extent, every cell `value`, in `storage`'s
+  ///        memory when its capacity suffices (no fresh pages to fault in).
+  template <typename U>
+  void resetLike(const Grid<U>& like, T value, std::vector<T>&& storage)
+  {
+    this->m_map.swap(storage);
+    this->setSize(like.getXMin(), like.getXMax(), like.getYMin(), like.getYMax(),
+                  like.getResolution(), &value);
+  }
+
  private:
   void take(Grid& o) noexcept
   {
