@@ -277,6 +277,58 @@ TEST(Planner, AutoFootprintMarginIsWiderWhereTheDoorLeavesRoom)
   EXPECT_THROW(loaded.loadFromConfigFile(m, "collision"), std::exception);
 }
 
+TEST(Planner, ObstacleZMaxAutoIsOnWithExactFootprintMargins)
+{
+  // [projection] obstacle_z_max_m "auto" (the default): auto_obstacle_z_max_m
+  // (0.60 m) where the planner plans the footprint with exact margins (the
+  // compact robot), off where they are trimmed (the omniRob) and for the
+  // circle.
+  PlannerParams omni;
+  ASSERT_EQ(omni.projection.obstacle_z_max_m, ProjectionParams::kAuto);
+  EXPECT_EQ(omni.projectionInForce(0.05).obstacle_z_max_m, 0.0);
+  PlannerParams compact;
+  compact.setFootprint(0.50, 0.36);
+  EXPECT_DOUBLE_EQ(compact.projectionInForce(0.05).obstacle_z_max_m, 0.60);
+  // What plan() projects: a box at 0.50-0.60 m in a known room closes its
+  // column for the compact robot only.
+  octomap::OcTree t(0.05);
+  test::fillBox(t, -3.0, 1.0, -2.0, 2.0, 0.1, 0.5, test::freeLog(t));
+  test::fillBox(t, -1.6, -1.5, 0.5, 0.6, 0.5, 0.6, test::occLog(t));
+  const CPose2D robot(-2.0, 0.0, 0.0);
+  const auto box_column = [&](const PlannerParams& p)
+  {
+    const PlanResult r = plan(t, robot, p);
+    Cell c;
+    EXPECT_TRUE(cellOf(r.ground->state, Eigen::Vector2d(-1.55, 0.55), c));
+    return *r.ground->state.cellByIndex(c.cx, c.cy);
+  };
+  EXPECT_EQ(box_column(compact), GroundState::Occupied);
+  EXPECT_EQ(box_column(omni), GroundState::Free);
+  PlannerParams compact_circle = compact;
+  compact_circle.collision.model = CollisionParams::Model::Circle;
+  EXPECT_EQ(compact_circle.projectionInForce(0.05).obstacle_z_max_m, 0.0);
+  // An explicit height wins, for either robot.
+  omni.projection.obstacle_z_max_m = 0.60;
+  EXPECT_EQ(box_column(omni), GroundState::Occupied);
+  compact.projection.obstacle_z_max_m = 0;
+  EXPECT_EQ(box_column(compact), GroundState::Free);
+  // The ini: "auto" round-trips; a negative height is an error naming the key.
+  mrpt::config::CConfigFileMemory m;
+  m.write("projection", "obstacle_z_max_m", "auto");
+  m.write("projection", "auto_obstacle_z_max_m", "0.55");
+  ProjectionParams loaded;
+  loaded.obstacle_z_max_m = 0.3;
+  loaded.loadFromConfigFile(m, "projection");
+  EXPECT_EQ(loaded.obstacle_z_max_m, ProjectionParams::kAuto);
+  EXPECT_DOUBLE_EQ(loaded.auto_obstacle_z_max_m, 0.55);
+  mrpt::config::CConfigFileMemory saved;
+  loaded.saveToConfigFile(saved, "projection");
+  EXPECT_EQ(saved.read_string("projection", "obstacle_z_max_m", ""), "auto");
+  m.write("projection", "obstacle_z_max_m", "-0.5");
+  test::expectErrorNaming([&] { loaded.loadFromConfigFile(m, "projection"); }, "obstacle_z_max_m",
+                          "an obstacle band up to -0.5 m");
+}
+
 TEST(Planner, RendersThePlan)
 {
   const auto V = doorRoom();

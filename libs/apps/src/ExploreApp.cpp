@@ -243,6 +243,15 @@ ExploreSummary ExploreApp::execute(const ExploreOptions& opts)
               << (cfg.explore.lowObstacleReplanInForce(col, l_res) ? "end a drive" : "do not end a drive")
               << (cfg.explore.low_obstacle_replan == mission::ExplorationLoopParams::Switch::Auto
                       ? " ([explore] low_obstacle_replan = auto: on with exact footprint margins)"
+                      : "");
+    const double ob_z = cfg.planner.projectionInForce(l_res).obstacle_z_max_m;
+    const auto& proj = cfg.planner.projection;
+    std::cout << "; occupied voxels "
+              << (ob_z > proj.z_max_m ? mrpt::format("up to %.2f m close their column", ob_z)
+                                      : mrpt::format("above %.2f m are not obstacles", proj.z_max_m))
+              << (proj.obstacle_z_max_m == exploration::ProjectionParams::kAuto
+                      ? " ([projection] obstacle_z_max_m = auto: auto_obstacle_z_max_m with exact "
+                        "footprint margins)"
                       : "")
               << std::endl;
   }

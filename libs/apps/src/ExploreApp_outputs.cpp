@@ -296,7 +296,7 @@ void ExploreRun::finish()
   const mrpt::poses::CPose3D T_world_map3(T_world_map_);
   const auto ground =
       exploration::projectToGround(slam().octomap().tree(), slam().currentPose(),
-                                   cfg_.planner.projection, loop_->sweptPath());
+                                   cfg_.planner.projectionInForce(res), loop_->sweptPath());
   s_.coverage_2d = coverageOf(ground);
   s_.coverage_2d_planner_circle =
       explore_detail::coverage2d(ground, gt_floor_planner_.free_floor, T_world_map_);

@@ -1,6 +1,7 @@
 #include <mrpt/config/CConfigFile.h>
 #include <mrpt/config/CConfigFileMemory.h>
 #include <mrpt/core/exceptions.h>
+#include <mrpt/core/format.h>
 #include <voxplore/common/config.h>
 
 #include <algorithm>
@@ -198,6 +199,20 @@ double readDoubleStrict(
   const auto val = trim(cfg.read_string(section, key, ""));
   requireValid(parsesAsNumber(val), cfg, section, key, "expected a number");
   return std::stod(val);
+}
+
+double readNumberOrWord(
+    const mrpt::config::CConfigFileBase& cfg, const std::string& section, const std::string& key,
+    double default_value, const std::string& word, double word_value)
+{
+  if (cfg.keyExists(section, key) && trim(cfg.read_string(section, key, "")) == word)
+    return word_value;
+  return readDoubleStrict(cfg, section, key, default_value);
+}
+
+std::string numberOrWord(double v, const std::string& word, double word_value)
+{
+  return v == word_value ? word : mrpt::format("%.17g", v);
 }
 
 void requireValid(

@@ -79,6 +79,17 @@ void PlannerParams::setFootprint(double length_m, double width_m)
   collision.r_coll_m = std::hypot(0.5 * length_m, 0.5 * width_m);
 }
 
+ProjectionParams PlannerParams::projectionInForce(double l_res_m) const
+{
+  ProjectionParams out = projection;
+  if (out.obstacle_z_max_m == ProjectionParams::kAuto)
+    out.obstacle_z_max_m =
+        collision.usesFootprint(l_res_m) && !collision.footprintTrimmed(l_res_m)
+            ? out.auto_obstacle_z_max_m
+            : 0.0;
+  return out;
+}
+
 void PlannerParams::save(mrpt::config::CConfigFileBase& cfg) const
 {
   projection.saveToConfigFile(cfg, "projection");
@@ -275,7 +286,7 @@ PlanResult plan(
 {
   PlanResult r;
   mrpt::system::CTicTac total, tic;
-  auto ground = std::make_shared<GroundGrid>(projectToGround(V, robot, p.projection, swept));
+  auto ground = std::make_shared<GroundGrid>(projectToGround(V, robot, p.projectionInForce(V.getResolution()), swept));
   stampObstacles(*ground, sensed_obstacles, low_obstacles, p.collision.low_obstacles_on_unknown);
   r.ms.projection = 1e3 * tic.Tac();
   tic.Tic();

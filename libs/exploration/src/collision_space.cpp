@@ -191,14 +191,10 @@ namespace
 double readAutoOrNumber(const mrpt::config::CConfigFileBase& c, const std::string& s,
                         const std::string& key, double current)
 {
-  if (c.read_string(s, key, "") == "auto") return CollisionParams::kAuto;
-  return common::readDoubleStrict(c, s, key, current);
+  return common::readNumberOrWord(c, s, key, current, "auto", CollisionParams::kAuto);
 }
 
-std::string autoOrNumber(double v)
-{
-  return v == CollisionParams::kAuto ? std::string("auto") : mrpt::format("%.17g", v);
-}
+std::string autoOrNumber(double v) { return common::numberOrWord(v, "auto", CollisionParams::kAuto); }
 }  // namespace
 
 void CollisionParams::loadFromConfigFile(const mrpt::config::CConfigFileBase& c,

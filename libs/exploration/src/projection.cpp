@@ -282,7 +282,9 @@ void ProjectionParams::loadFromConfigFile(const mrpt::config::CConfigFileBase& c
 {
   MRPT_LOAD_CONFIG_VAR(z_min_m, double, c, s);
   MRPT_LOAD_CONFIG_VAR(z_max_m, double, c, s);
-  MRPT_LOAD_CONFIG_VAR(obstacle_z_max_m, double, c, s);
+  obstacle_z_max_m = common::readNumberOrWord(c, s, "obstacle_z_max_m", obstacle_z_max_m, "auto",
+                                              kAuto);
+  MRPT_LOAD_CONFIG_VAR(auto_obstacle_z_max_m, double, c, s);
   MRPT_LOAD_CONFIG_VAR(th_free, int, c, s);
   MRPT_LOAD_CONFIG_VAR(th_occ, int, c, s);
   MRPT_LOAD_CONFIG_VAR(margin_m, double, c, s);
@@ -290,6 +292,9 @@ void ProjectionParams::loadFromConfigFile(const mrpt::config::CConfigFileBase& c
   MRPT_LOAD_CONFIG_VAR(swept_footprint, bool, c, s);
   MRPT_LOAD_CONFIG_VAR(swept_footprint_margin_m, double, c, s);
   using common::requireValid;
+  requireValid(obstacle_z_max_m == kAuto || obstacle_z_max_m >= 0, c, s, "obstacle_z_max_m",
+               "must be auto or >= 0");
+  requireValid(auto_obstacle_z_max_m >= 0, c, s, "auto_obstacle_z_max_m", "must be >= 0");
   requireValid(swept_radius_m >= 0, c, s, "swept_radius_m", "must be >= 0");
   requireValid(swept_footprint_margin_m >= 0, c, s, "swept_footprint_margin_m", "must be >= 0");
   region.clear();
@@ -317,7 +322,8 @@ void ProjectionParams::saveToConfigFile(mrpt::config::CConfigFileBase& c,
 {
   MRPT_SAVE_CONFIG_VAR(z_min_m, c, s);
   MRPT_SAVE_CONFIG_VAR(z_max_m, c, s);
-  MRPT_SAVE_CONFIG_VAR(obstacle_z_max_m, c, s);
+  c.write(s, "obstacle_z_max_m", common::numberOrWord(obstacle_z_max_m, "auto", kAuto));
+  MRPT_SAVE_CONFIG_VAR(auto_obstacle_z_max_m, c, s);
   MRPT_SAVE_CONFIG_VAR(th_free, c, s);
   MRPT_SAVE_CONFIG_VAR(th_occ, c, s);
   MRPT_SAVE_CONFIG_VAR(margin_m, c, s);

@@ -61,6 +61,16 @@ double readDoubleStrict(
     const mrpt::config::CConfigFileBase& cfg, const std::string& section,
     const std::string& key, double default_value);
 
+/// @brief readDoubleStrict, or `word_value` where the key says `word` (e.g.
+///        "auto" for a sentinel the caller resolves later).
+double readNumberOrWord(
+    const mrpt::config::CConfigFileBase& cfg, const std::string& section,
+    const std::string& key, double default_value, const std::string& word, double word_value);
+
+/// @brief The ini text of readNumberOrWord's value: `word` for `word_value`,
+///        else the number at full precision.
+std::string numberOrWord(double v, const std::string& word, double word_value);
+
 /// @brief Throws "<source>: [section] key = value: <why>" when !ok.
 void requireValid(
     bool ok, const mrpt::config::CConfigFileBase& cfg, const std::string& section,

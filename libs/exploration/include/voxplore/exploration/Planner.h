@@ -52,6 +52,11 @@ struct PlannerParams
   /// collision rectangle, and r_coll_m = its circumradius (a [collision]
   /// r_coll_m key loaded afterwards wins).
   void setFootprint(double length_m, double width_m);
+  /// The projection's keys with "auto" resolved at the map's resolution:
+  /// obstacle_z_max_m auto is auto_obstacle_z_max_m where the planner plans
+  /// the footprint with exact margins (CollisionParams::footprintTrimmed
+  /// false), else off.
+  ProjectionParams projectionInForce(double l_res_m) const;
   static std::vector<std::string> sections()
   {
     return {"projection", "collision", "sampling", "rooms", "scan_rating", "path", "planner"};

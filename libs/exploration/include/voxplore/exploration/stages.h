@@ -35,8 +35,15 @@ struct ProjectionParams : public mrpt::config::CLoadableOptions
   /// Occupied too; unknown ones there do not make it Unknown (the Free rule
   /// stays the band's): what the cameras see between the band and their
   /// ring (0.60 m) is kept off the body, what they cannot see does not
-  /// close the floor. <= z_max_m: off (the thesis) [m].
-  double obstacle_z_max_m = 0;
+  /// close the floor. <= z_max_m: off (the thesis) [m]. kAuto (ini "auto",
+  /// the default): PlannerParams::projectionInForce resolves it;
+  /// projectToGround takes kAuto as off.
+  double obstacle_z_max_m = kAuto;
+  /// obstacle_z_max_m auto: this height where the planner plans the
+  /// footprint with exact margins (the compact robot), off elsewhere (the
+  /// omniRob, whose doors leave no cell to spare) [m].
+  double auto_obstacle_z_max_m = 0.60;
+  static constexpr double kAuto = -1.0;
   int th_free = 70;       ///< free below (0..255 scale, p = value/255)
   int th_occ = 240;       ///< occupied above (0..255 scale)
   double margin_m = 1.0;  ///< grid extends this far past the map's bounds [m]
