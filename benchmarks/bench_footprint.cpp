@@ -78,7 +78,8 @@ const Fixture& fixture()
   f->params.collision.model = CollisionParams::Model::Footprint;
   f->params.projection.footprint_length_m = f->params.collision.footprint_length_m;
   f->params.projection.footprint_width_m = f->params.collision.footprint_width_m;
-  f->ground = projectToGround(*f->tree, f->robot, f->params.projectionInForce(f->tree->getResolution()));
+  f->ground = projectToGround(*f->tree, f->robot,
+                              f->params.projectionInForce(f->tree->getResolution()));
   f->circle = computeCollisionSpace(f->ground, f->params.collision);
   f->space = f->circle;
   f->fs = computeFootprintSpace(f->ground, f->space, f->params.collision, f->robot);

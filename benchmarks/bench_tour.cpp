@@ -63,7 +63,8 @@ const Fixture& fixture()
   f->params.projection.footprint_length_m = kLength;
   f->params.projection.footprint_width_m = kWidth;
   f->params.rating.mounts = voxplore::common::cameraRing(kLength, kWidth, 0.60, mrpt::DEG2RAD(30.0));
-  f->ground = projectToGround(*f->tree, f->robot, f->params.projectionInForce(f->tree->getResolution()));
+  f->ground = projectToGround(*f->tree, f->robot,
+                              f->params.projectionInForce(f->tree->getResolution()));
   f->space = computeCollisionSpace(f->ground, f->params.collision);
   f->fm = findFrontiers(f->ground, f->space);
   double free_m2 = 0;

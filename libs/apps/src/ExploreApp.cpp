@@ -247,8 +247,9 @@ ExploreSummary ExploreApp::execute(const ExploreOptions& opts)
     const double ob_z = cfg.planner.projectionInForce(l_res).obstacle_z_max_m;
     const auto& proj = cfg.planner.projection;
     std::cout << "; occupied voxels "
-              << (ob_z > proj.z_max_m ? mrpt::format("up to %.2f m close their column", ob_z)
-                                      : mrpt::format("above %.2f m are not obstacles", proj.z_max_m))
+              << (ob_z > proj.z_max_m
+                      ? mrpt::format("up to %.2f m close their column", ob_z)
+                      : mrpt::format("above %.2f m are not obstacles", proj.z_max_m))
               << (proj.obstacle_z_max_m == exploration::ProjectionParams::kAuto
                       ? " ([projection] obstacle_z_max_m = auto: auto_obstacle_z_max_m with exact "
                         "footprint margins)"

@@ -286,7 +286,8 @@ PlanResult plan(
 {
   PlanResult r;
   mrpt::system::CTicTac total, tic;
-  auto ground = std::make_shared<GroundGrid>(projectToGround(V, robot, p.projectionInForce(V.getResolution()), swept));
+  auto ground = std::make_shared<GroundGrid>(
+      projectToGround(V, robot, p.projectionInForce(V.getResolution()), swept));
   stampObstacles(*ground, sensed_obstacles, low_obstacles, p.collision.low_obstacles_on_unknown);
   r.ms.projection = 1e3 * tic.Tac();
   tic.Tic();

@@ -194,7 +194,10 @@ double readAutoOrNumber(const mrpt::config::CConfigFileBase& c, const std::strin
   return common::readNumberOrWord(c, s, key, current, "auto", CollisionParams::kAuto);
 }
 
-std::string autoOrNumber(double v) { return common::numberOrWord(v, "auto", CollisionParams::kAuto); }
+std::string autoOrNumber(double v)
+{
+  return common::numberOrWord(v, "auto", CollisionParams::kAuto);
+}
 }  // namespace
 
 void CollisionParams::loadFromConfigFile(const mrpt::config::CConfigFileBase& c,
