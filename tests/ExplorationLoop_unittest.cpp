@@ -533,9 +533,7 @@ TEST(ExplorationLoop, LowObstacleReplanAutoIsOnWithExactFootprintMargins)
   m.write("explore", "low_obstacle_replan", "auto");
   p.loadFromConfigFile(m, "explore");
   EXPECT_EQ(p.low_obstacle_replan, Switch::Auto);
-  mrpt::config::CConfigFileMemory saved;
-  p.saveToConfigFile(saved, "explore");
-  EXPECT_EQ(saved.read_string("explore", "low_obstacle_replan", ""), "auto");
+  EXPECT_EQ(test::savedText(p, "explore", "low_obstacle_replan"), "auto");
   m.write("explore", "low_obstacle_replan", "sometimes");
   test::expectErrorNaming([&] { p.loadFromConfigFile(m, "explore"); }, "low_obstacle_replan",
                           "'sometimes'");

@@ -215,9 +215,7 @@ TEST(Planner, AutoFootprintMarginsFollowTheRobotsWidthAgainstTheDoor)
   loaded.loadFromConfigFile(m, "collision");
   EXPECT_EQ(loaded.footprint_square_share, CollisionParams::kAuto);
   EXPECT_DOUBLE_EQ(loaded.footprint_lateral_m, 0.01);
-  mrpt::config::CConfigFileMemory saved;
-  loaded.saveToConfigFile(saved, "collision");
-  EXPECT_EQ(saved.read_string("collision", "footprint_square_share", ""), "auto");
+  EXPECT_EQ(test::savedText(loaded, "collision", "footprint_square_share"), "auto");
   m.write("collision", "footprint_square_share", "half");
   test::expectErrorNaming([&] { loaded.loadFromConfigFile(m, "collision"); },
                           "footprint_square_share", "'half'");
@@ -266,9 +264,7 @@ TEST(Planner, AutoFootprintMarginIsWiderWhereTheDoorLeavesRoom)
   loaded.loadFromConfigFile(m, "collision");
   EXPECT_EQ(loaded.footprint_margin_m, CollisionParams::kAuto);
   EXPECT_DOUBLE_EQ(loaded.auto_margin_max_m, 0.04);
-  mrpt::config::CConfigFileMemory saved;
-  loaded.saveToConfigFile(saved, "collision");
-  EXPECT_EQ(saved.read_string("collision", "footprint_margin_m", ""), "auto");
+  EXPECT_EQ(test::savedText(loaded, "collision", "footprint_margin_m"), "auto");
   m.write("collision", "auto_margin_max_m", "0.08");
   test::expectErrorNaming([&] { loaded.loadFromConfigFile(m, "collision"); },
                           "footprint_turn_margin_m",
@@ -321,9 +317,7 @@ TEST(Planner, ObstacleZMaxAutoIsOnWithExactFootprintMargins)
   loaded.loadFromConfigFile(m, "projection");
   EXPECT_EQ(loaded.obstacle_z_max_m, ProjectionParams::kAuto);
   EXPECT_DOUBLE_EQ(loaded.auto_obstacle_z_max_m, 0.55);
-  mrpt::config::CConfigFileMemory saved;
-  loaded.saveToConfigFile(saved, "projection");
-  EXPECT_EQ(saved.read_string("projection", "obstacle_z_max_m", ""), "auto");
+  EXPECT_EQ(test::savedText(loaded, "projection", "obstacle_z_max_m"), "auto");
   m.write("projection", "obstacle_z_max_m", "-0.5");
   test::expectErrorNaming([&] { loaded.loadFromConfigFile(m, "projection"); }, "obstacle_z_max_m",
                           "an obstacle band up to -0.5 m");
