@@ -2,12 +2,12 @@
  * cost from the start that guides it (footprint_search.h, issue 13). */
 #include "footprint_search.h"
 
+#include <mrpt/core/exceptions.h>
+
+#include "indexed_heap.h"
+
 #include <cmath>
-#include <functional>
 #include <limits>
-#include <queue>
-#include <tuple>
-#include <utility>
 #include <vector>
 
 namespace voxplore::exploration
@@ -23,6 +23,45 @@ constexpr int kDy[8] = {0, 0, 1, -1, 1, -1, 1, -1};
 /// SE2Search's buffers between searches (one set per thread).
 thread_local std::vector<int32_t> t_block;
 thread_local std::vector<Node> t_nodes;
+
+/// The A*'s open list: among equal f the deeper state first, then the lower
+/// state index (the order of the (f, -g, state) tuples it used to hold).
+struct OpenItem
+{
+  double f, neg_g;
+  uint32_t state, node;  ///< node: the state's index in SE2Search::nodes
+  bool operator<(const OpenItem& o) const
+  {
+    if (f != o.f) return f < o.f;
+    if (neg_g != o.neg_g) return neg_g < o.neg_g;
+    return state < o.state;
+  }
+};
+struct OpenHandles
+{
+  std::vector<Node>* nodes;
+  uint32_t handle(const OpenItem& i) const { return i.node; }
+  int32_t& pos(uint32_t h) const { return (*nodes)[h].pos; }
+};
+thread_local std::vector<OpenItem> t_open;
+
+/// costFromCell's open list.
+struct CostItem
+{
+  float cost;
+  uint32_t cell;
+  bool operator<(const CostItem& o) const
+  {
+    return cost != o.cost ? cost < o.cost : cell < o.cell;
+  }
+};
+struct CostHandles
+{
+  std::vector<int32_t>* pos_of;
+  uint32_t handle(const CostItem& i) const { return i.cell; }
+  int32_t& pos(uint32_t h) const { return (*pos_of)[h]; }
+};
+thread_local std::vector<CostItem> t_cost_open;
 }  // namespace
 
 void SE2Search::takeScratch()
@@ -51,25 +90,25 @@ bool SE2Search::mayTranslate(int cx, int cy, int k, int bin) const
 std::vector<std::size_t> SE2Search::run(std::size_t start_cell, int start_bin,
                                         std::size_t goal_cell, const std::vector<float>& from_start)
 {
-  // (f, -g, state): among equal f the deeper state first.
-  using Item = std::tuple<double, double, std::size_t>;
-  std::priority_queue<Item, std::vector<Item>, std::greater<>> open;
+  ASSERTMSG_(static_cast<double>(nx) * ny * bins < 4294967296.0,
+             "SE2Search: the grid's cells x yaw bins exceed 2^32 states");
+  IndexedHeap<OpenItem, OpenHandles> open(OpenHandles{&nodes}, std::move(t_open));
   const std::size_t s0 = start_cell * bins + start_bin;
   const YawMask seeds = fs.allowed(goal_cell) & fs.reach.data()[goal_cell];
   for (int b = 0; b < bins; ++b)
   {
     if (!((seeds >> b) & 1u)) continue;
     const std::size_t t = goal_cell * bins + b;
-    node(t) = Node{0.0f, 0x7f};  // the goal: no move
-    open.push({p.footprint_heuristic_weight * from_start[goal_cell], 0.0, t});
+    const std::size_t nt = nodeIndex(t);
+    nodes[nt] = Node{0.0f, 0x7f};  // the goal: no move
+    open.pushOrDecrease({p.footprint_heuristic_weight * from_start[goal_cell], 0.0,
+                         static_cast<uint32_t>(t), static_cast<uint32_t>(nt)});
   }
   bool found = false;
   while (!open.empty())
   {
-    const std::size_t u = std::get<2>(open.top());
-    open.pop();
+    const std::size_t u = open.pop().state;
     Node& nu = node(u);
-    if (nu.how & kClosedBit) continue;
     nu.how |= kClosedBit;
     if (u == s0)
     {
@@ -85,13 +124,15 @@ std::vector<std::size_t> SE2Search::run(std::size_t start_cell, int start_bin,
     {
       const float h = from_start[s_cell];
       if (!std::isfinite(h)) return;
-      Node& ns = node(s);
+      const std::size_t ni = nodeIndex(s);
+      Node& ns = nodes[ni];
       if (ns.how != kUnseen && (ns.how & kClosedBit)) return;
       const double ng = gu + cost;
       if (ng >= ns.g) return;
       ns.g = static_cast<float>(ng);
       ns.how = move;
-      open.push({ng + p.footprint_heuristic_weight * h, -ng, s});
+      open.pushOrDecrease({ng + p.footprint_heuristic_weight * h, -ng, static_cast<uint32_t>(s),
+                           static_cast<uint32_t>(ni)});
     };
     // Translations into u: from the cell one step back, in the same bin.
     const double into = res * factor(cell) * comfort(cell, bin);
@@ -112,6 +153,7 @@ std::vector<std::size_t> SE2Search::run(std::size_t start_cell, int start_bin,
     if (turnable(cell, down)) relax(cell * bins + down, cell, turn_cost, kTurnUp);
     if (turnable(cell, up)) relax(cell * bins + up, cell, turn_cost, kTurnDown);
   }
+  t_open = std::move(open).release();
   std::vector<std::size_t> states;
   if (!found) return states;
   for (std::size_t s = s0;;)
@@ -147,7 +189,8 @@ std::vector<float> costFromCell(const CollisionSpace& cs, const FootprintSpace& 
   std::vector<float> d(n, std::numeric_limits<float>::infinity());
   const auto& reach = fs.reach.data();
   const auto& escape = fs.escape.data();
-  std::vector<float> step_cost(n, 0.0f);
+  // +infinity where no state is reached or escapes: no step enters there.
+  std::vector<float> step_cost(n, std::numeric_limits<float>::infinity());
   const auto& clear_turn = fs.clear_turn.data();
   for (std::size_t i = 0; i < n; ++i)
     if (reach[i] | escape[i])
@@ -155,30 +198,28 @@ std::vector<float> costFromCell(const CollisionSpace& cs, const FootprintSpace& 
           res * p.costFactor(cs.clearance(i)) *
           // SE2Search::comfort: double where no reached bin keeps the turn margin.
           ((clear_turn[i] & (reach[i] | escape[i])) ? 1.0 : 2.0));
-  using Item = std::pair<float, int>;
-  std::priority_queue<Item, std::vector<Item>, std::greater<>> open;
-  const int r0 = start.cx + start.cy * nx;
   if (start.cx < 0 || start.cy < 0 || start.cx >= nx || start.cy >= ny) return d;
-  d[static_cast<std::size_t>(r0)] = 0;
-  open.push({0.0f, r0});
+  const uint32_t r0 = static_cast<uint32_t>(start.cx + start.cy * nx);
+  std::vector<int32_t> pos(n, -1);
+  IndexedHeap<CostItem, CostHandles> open(CostHandles{&pos}, std::move(t_cost_open));
+  d[r0] = 0;
+  open.pushOrDecrease({0.0f, r0});
   while (!open.empty())
   {
-    const auto [du, u] = open.top();
-    open.pop();
-    if (du > d[static_cast<std::size_t>(u)]) continue;
-    const int cx = u % nx, cy = u / nx;
+    const auto [du, u] = open.pop();
+    const int cx = static_cast<int>(u % nx), cy = static_cast<int>(u / nx);
     for (int k = 0; k < 8; ++k)
     {
       const int x = cx + kDx[k], y = cy + kDy[k];
       if (x < 0 || y < 0 || x >= nx || y >= ny) continue;
       const std::size_t j = static_cast<std::size_t>(x) + static_cast<std::size_t>(y) * nx;
-      if (!(reach[j] | escape[j])) continue;
       const float nd = du + static_cast<float>(k < 4 ? 1.0 : kSqrt2) * step_cost[j];
       if (nd >= d[j]) continue;
       d[j] = nd;
-      open.push({nd, static_cast<int>(j)});
+      open.pushOrDecrease({nd, static_cast<uint32_t>(j)});
     }
   }
+  t_cost_open = std::move(open).release();
   // Float sums may round a bound above a double-precision path cost by an
   // ulp: shave it off (a bound, not a distance).
   for (float& v : d)

@@ -24,6 +24,7 @@ struct Node
 {
   float g = std::numeric_limits<float>::infinity();
   uint8_t how = kUnseen;  ///< move towards the goal (0-7 translation, kTurnUp/Down) | kClosedBit
+  int32_t pos = -1;       ///< where the state is in the open list, -1 when not there
 };
 
 /// The search over states s = cell * bins + bin. It runs backwards, from the
@@ -69,7 +70,8 @@ struct SE2Search
     nodes.clear();
   }
 
-  Node& node(std::size_t s)
+  /// The index of state s's Node in `nodes` (a new block for a new cell).
+  std::size_t nodeIndex(std::size_t s)
   {
     const std::size_t cell = s / bins;
     if (block[cell] < 0)
@@ -77,8 +79,9 @@ struct SE2Search
       block[cell] = static_cast<int32_t>(nodes.size() / bins);
       nodes.resize(nodes.size() + bins);
     }
-    return nodes[static_cast<std::size_t>(block[cell]) * bins + s % bins];
+    return static_cast<std::size_t>(block[cell]) * bins + s % bins;
   }
+  Node& node(std::size_t s) { return nodes[nodeIndex(s)]; }
 
   double clearance(std::size_t cell) const
   {
