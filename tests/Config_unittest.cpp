@@ -174,3 +174,44 @@ TEST(Config, SlamIcpParamsRejectBadValues)
     }
   }
 }
+
+// MRPT's CConfigFile returned the comment of a key left empty ("navlog_dir =
+// // ...") as its value: every drive then logged into a directory named
+// after the comment. openIniFile's reader gives the empty value.
+TEST(Config, AKeyLeftEmptyBeforeItsCommentIsEmpty)
+{
+  const auto path = test::tempPath("empty_before_comment.ini");
+  std::ofstream(path) << "[navigation]\n"
+                         "navlog_dir      =      // where the logs go; empty = off\n"
+                         "holonomic_method = CHolonomicFullEval   // kept\n"
+                         "[explore]\n"
+                         "x = 3 // three\n";
+  const auto trim = [](const std::string& v)
+  {
+    const auto b = v.find_first_not_of(" \t"), e = v.find_last_not_of(" \t");
+    return b == std::string::npos ? std::string() : v.substr(b, e - b + 1);
+  };
+  const auto cfg = common::openIniFile(path);
+  EXPECT_EQ(cfg->read_string("navigation", "navlog_dir", "unset"), "");
+  EXPECT_EQ(trim(cfg->read_string("navigation", "holonomic_method", "")),
+            "CHolonomicFullEval");
+  EXPECT_EQ(cfg->read_double("explore", "x", 0), 3.0);
+  navigation::DriverParams d;
+  d.loadFromConfigFile(*cfg, "navigation");
+  EXPECT_TRUE(d.navlog_dir.empty()) << "navlog_dir read as '" << d.navlog_dir << "'";
+  // Every shipped ini: no key reads as a comment.
+  for (const auto& e : fs::directory_iterator(std::string(VOXPLORE_SOURCE_DIR) + "/config"))
+  {
+    if (e.path().extension() != ".ini") continue;
+    const auto ini = common::openIniFile(e.path().string());
+    std::vector<std::string> sections, keys;
+    ini->getAllSections(sections);
+    for (const auto& s : sections)
+    {
+      ini->getAllKeys(s, keys);
+      for (const auto& k : keys)
+        EXPECT_NE(trim(ini->read_string(s, k, "")).rfind("//", 0), 0u)
+            << e.path() << " [" << s << "] " << k;
+    }
+  }
+}

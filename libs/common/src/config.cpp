@@ -166,11 +166,37 @@ void loadChecked(
   params.loadFromConfigFile(cfg, section);
 }
 
+namespace
+{
+/// MRPT 2.5.8's CConfigFile strips a trailing "//" comment only where a
+/// blank precedes it, and SimpleIni trims the blanks before a value: a key
+/// left empty before its comment (`navlog_dir =   // MRPT navigation logs
+/// ...`) read as the comment itself. That one made every drive write an
+/// MRPT navigation log into a directory named after the comment, at the
+/// file system's root (83,000 logs, 2.1 GB on the development machine by
+/// the twenty-eighth session), and scan all of them for a free name: a
+/// quarter of a building run's CPU. Here a value whose first non-blank
+/// characters are "//" is empty.
+class IniFile : public mrpt::config::CConfigFile
+{
+ public:
+  using CConfigFile::CConfigFile;
+
+ protected:
+  std::string readString(const std::string& section, const std::string& name,
+                         const std::string& default_str, bool fail_if_not_found) const override
+  {
+    std::string v = CConfigFile::readString(section, name, default_str, fail_if_not_found);
+    return trim(v).rfind("//", 0) == 0 ? std::string() : v;
+  }
+};
+}  // namespace
+
 std::unique_ptr<mrpt::config::CConfigFileBase> openIniFile(const std::string& path)
 {
   if (!std::filesystem::is_regular_file(path))
     throw std::runtime_error("config file not found: '" + path + "'");
-  return std::make_unique<mrpt::config::CConfigFile>(path);
+  return std::make_unique<IniFile>(path);
 }
 
 std::vector<double> parseNumberList(const std::string& text, const std::string& what)
