@@ -10,6 +10,9 @@
 //   BM_CastRayStock/<r>   only one stock OcTree::castRay per beam (tree's own
 //                         threshold, no entropy): the floor of any stock-OctoMap
 //                         rating, for scale
+//   BM_RateStepOneByOne/<r>   a planning step's 15 samples (within 1.5 m of a
+//                             trajectory pose), one rateScan each
+//   BM_RateStepOneWindow/<r>  the same 15 with rateScans (one voxel window)
 //
 // The map: build/bin/voxplore-replay --config config/replay.ini
 //            --rawlog rawlogs/dlr_test_room/run.rawlog --out /tmp/replay_bt
@@ -149,6 +152,41 @@ void BM_CastRayStock(benchmark::State& state)
   state.SetItemsProcessed(state.iterations() * static_cast<int64_t>(beams));
 }
 
+/// A planning step's samples round `c`: 15 poses within 1.5 m (a
+/// frontier's sample space), on a golden-angle spiral, yaws spread round.
+std::vector<CPose2D> stepSamples(const CPose2D& c)
+{
+  std::vector<CPose2D> s;
+  for (int k = 0; k < 15; k++)
+  {
+    const double a = 2.399963229728653 * k, r = 1.5 * std::sqrt((k + 0.5) / 15.0);
+    s.emplace_back(c.x() + r * std::cos(a), c.y() + r * std::sin(a),
+                   std::fmod(1.7 * k, 2 * M_PI) - M_PI);
+  }
+  return s;
+}
+
+template <bool kOneWindow>
+void BM_RateStep(benchmark::State& state)
+{
+  if (!ready(state)) return;
+  const auto p = paramsFor(static_cast<int>(state.range(0)));
+  std::size_t i = 0;
+  double voxels = 0;
+  for (auto _ : state)
+  {
+    const auto samples = stepSamples(g_poses[i++ % g_poses.size()]);
+    std::vector<exploration::ScanRating> r;
+    if constexpr (kOneWindow)
+      r = exploration::rateScans(*g_map, samples, p);
+    else
+      for (const auto& s : samples) r.push_back(exploration::rateScan(*g_map, s, p));
+    for (const auto& x : r) voxels += static_cast<double>(x.voxels);
+    benchmark::DoNotOptimize(r.data());
+  }
+  state.counters["voxels"] = voxels / static_cast<double>(state.iterations());
+}
+
 /// Other processes share the cores: with --benchmark_repetitions=N the
 /// minimum is the figure to quote.
 double minimum(const std::vector<double>& v)
@@ -241,6 +279,8 @@ int main(int argc, char** argv)
   registerRating("BM_RateScanPortable", BM_RateScanPortable, 4, 20);
   registerRating("BM_RateScanNaive", BM_RateScanNaive, 1, 4);
   registerRating("BM_CastRayStock", BM_CastRayStock, 1, 8);
+  registerRating("BM_RateStepOneByOne", BM_RateStep<false>, 1, 2);
+  registerRating("BM_RateStepOneWindow", BM_RateStep<true>, 1, 2);
   benchmark::RunSpecifiedBenchmarks();
   benchmark::Shutdown();
   return 0;

@@ -291,7 +291,10 @@ struct RobotSetup
 
   RobotSetup()
   {
-    mrpt::config::CConfigFile ini(std::string(VOXPLORE_SOURCE_DIR) + "/config/explore.ini");
+    // common::openIniFile, as the apps: MRPT's own reader takes the comment
+    // of a key left empty for its value (navlog_dir).
+    const auto file = common::openIniFile(std::string(VOXPLORE_SOURCE_DIR) + "/config/explore.ini");
+    const mrpt::config::CConfigFileBase& ini = *file;
     mounts = common::cameraRing(kLength, kWidth, 0.60, mrpt::DEG2RAD(30.0));
     radius_m = std::hypot(kLength / 2, kWidth / 2);
     slam.load(ini);

@@ -193,8 +193,7 @@ std::optional<SkipReason> candidatesFor(
   r.ms.sampling += 1e3 * tic.Tac();
   if (samples.empty()) return SkipReason::NoSamples;
   tic.Tic();
-  std::vector<ScanRating> ratings;
-  for (const auto& s : samples) ratings.push_back(rateScan(V, s, p.rating));
+  const std::vector<ScanRating> ratings = rateScans(V, samples, p.rating);
   r.ms.rating += 1e3 * tic.Tac();
   r.samples.insert(r.samples.end(), samples.begin(), samples.end());
   r.ratings.insert(r.ratings.end(), ratings.begin(), ratings.end());

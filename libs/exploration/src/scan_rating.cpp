@@ -68,8 +68,44 @@ struct Scratch
 {
   WindowStorage window;
   RatedBeams beams;
+  std::vector<RatedBeams> batch;  ///< rateScans: one per pose
+  std::vector<uint32_t> counted;  ///< rateScans: the window's log of counted voxels
 };
 thread_local Scratch t_scratch;
+
+/// rateScans shares a window while it is at most this many times the
+/// largest single rating's (memory: 2 bytes a cell).
+constexpr std::size_t kBatchWindowGrowth = 4;
+
+/// The window box of beams keyed into [kmin, kmax]: 2 voxels of slack,
+/// aligned to the 8-voxel blocks of depth 13. False when no beam is in the
+/// tree.
+bool windowBox(const RatedBeams& b, octomap::OcTreeKey& kmin, const octomap::OcTreeKey& kmax,
+               std::size_t n[3])
+{
+  if (b.in_tree.empty()) return false;
+  for (int d = 0; d < 3; d++)
+  {
+    kmin[d] = static_cast<octomap::key_type>(std::max(int(kmin[d]) - 2, 0) & ~7);
+    const unsigned hi = std::min(unsigned(kmax[d]) + 2u, 0xFFFFu);
+    n[d] = ((hi - kmin[d]) | 7u) + 1;
+  }
+  return true;
+}
+
+/// Voxels the beams of `b` can count at most: each beam's DDA steps once
+/// per key it crosses, plus its first and last voxel and rounding slack.
+std::size_t countBound(const RatedBeams& b)
+{
+  std::size_t n = 0;
+  for (const uint32_t i : b.in_tree)
+  {
+    const octomap::OcTreeKey &ko = b.origin_keys[i], &ke = b.end_keys[i];
+    for (int d = 0; d < 3; d++) n += static_cast<std::size_t>(std::abs(int(ke[d]) - int(ko[d])));
+    n += 4;
+  }
+  return n;
+}
 
 /// Keys of the beams' ends into `b`; their bounding box in kmin / kmax.
 void computeKeys(const octomap::OcTree& V, RatedBeams& b, octomap::OcTreeKey& kmin,
@@ -163,6 +199,26 @@ void walkBeamsScalar(BeamFeed& feed, VoxelWindow& w, Tally& tally)
   BeamDda s;
   while (feed.pop(w, tally, s)) finishBeam(s, w, tally);
 }
+
+namespace
+{
+/// Walks the beams of `b` through `w` into a rating.
+ScanRating walkAll(const octomap::OcTree& V, const RatedBeams& b, VoxelWindow& w)
+{
+  Tally tally;
+  BeamFeed feed(V, b, w);
+  // VOXPLORE_SCAN_RATING_PORTABLE (any value) forces the portable walker:
+  // for tests and benchmarks on AVX2 machines.
+  const bool portable = std::getenv("VOXPLORE_SCAN_RATING_PORTABLE") != nullptr;
+  if (portable || !walkBeamsAvx2(feed, w, tally)) walkBeamsScalar(feed, w, tally);
+  ScanRating out;
+  out.beams = b.beams.size();
+  out.voxels = tally.voxels;
+  out.unknown_voxels = tally.unknown;
+  out.gain = tally.gain;
+  return out;
+}
+}  // namespace
 }  // namespace detail
 
 ScanRating rateScan(const octomap::OcTree& V, const mrpt::poses::CPose2D& pose,
@@ -178,30 +234,71 @@ ScanRating rateScan(const octomap::OcTree& V, const mrpt::poses::CPose2D& pose,
   // beam can visit.
   octomap::OcTreeKey kmin, kmax;
   detail::computeKeys(V, sc.beams, kmin, kmax);
-  if (sc.beams.in_tree.empty()) return out;
   std::size_t n[3];
-  for (int d = 0; d < 3; d++)
-  {
-    // 2 voxels of slack, aligned to the 8-voxel blocks of depth 13.
-    kmin[d] = static_cast<octomap::key_type>(std::max(int(kmin[d]) - 2, 0) & ~7);
-    const unsigned hi = std::min(unsigned(kmax[d]) + 2u, 0xFFFFu);
-    n[d] = ((hi - kmin[d]) | 7u) + 1;
-  }
+  if (!detail::windowBox(sc.beams, kmin, kmax, n)) return out;
   if (n[0] * n[1] * n[2] > detail::kMaxWindowCells) return rateScanNaive(V, pose, p);
 
   uint32_t count_kz[2] = {detail::VoxelWindow::kCountAll[0], detail::VoxelWindow::kCountAll[1]};
   if (p.countBand()) detail::countBandKeys(V, p, count_kz);
   detail::VoxelWindow window(V, detail::stopLogOdds(p.th_occ), kmin, n, sc.window, count_kz);
-  detail::Tally tally;
-  detail::BeamFeed feed(V, sc.beams, window);
-  // VOXPLORE_SCAN_RATING_PORTABLE (any value) forces the portable walker:
-  // for tests and benchmarks on AVX2 machines.
-  const bool portable = std::getenv("VOXPLORE_SCAN_RATING_PORTABLE") != nullptr;
-  if (portable || !detail::walkBeamsAvx2(feed, window, tally))
-    detail::walkBeamsScalar(feed, window, tally);
-  out.voxels = tally.voxels;
-  out.unknown_voxels = tally.unknown;
-  out.gain = tally.gain;
+  return detail::walkAll(V, sc.beams, window);
+}
+
+std::vector<ScanRating> rateScans(const octomap::OcTree& V,
+                                  const std::vector<mrpt::poses::CPose2D>& poses,
+                                  const ScanRatingParams& p)
+{
+  std::vector<ScanRating> out;
+  out.reserve(poses.size());
+  const auto oneByOne = [&]
+  {
+    for (std::size_t i = out.size(); i < poses.size(); i++) out.push_back(rateScan(V, poses[i], p));
+    return out;
+  };
+  if (poses.size() < 2) return oneByOne();
+  detail::checkRatingParams(p);
+  detail::Scratch& sc = detail::t_scratch;
+  if (sc.batch.size() < poses.size()) sc.batch.resize(poses.size());
+  // Each pose's beams and box; the union box.
+  octomap::OcTreeKey umin(0xFFFF, 0xFFFF, 0xFFFF);
+  unsigned umax[3] = {0, 0, 0};  // last key of the union (may pass 0xFFFF by the alignment)
+  std::size_t largest = 0, bound = 0;
+  bool any = false;
+  for (std::size_t i = 0; i < poses.size(); i++)
+  {
+    detail::RatedBeams& b = sc.batch[i];
+    detail::virtualBeams(poses[i], p, b.beams);
+    octomap::OcTreeKey kmin, kmax;
+    detail::computeKeys(V, b, kmin, kmax);
+    std::size_t n[3];
+    if (!detail::windowBox(b, kmin, kmax, n)) continue;
+    any = true;
+    largest = std::max(largest, n[0] * n[1] * n[2]);
+    bound = std::max(bound, detail::countBound(b));
+    for (int d = 0; d < 3; d++)
+    {
+      umin[d] = std::min(umin[d], kmin[d]);
+      umax[d] = std::max(umax[d], static_cast<unsigned>(kmin[d] + n[d] - 1));
+    }
+  }
+  if (!any) return oneByOne();  // nothing in the tree: rateScan's empty ratings
+  std::size_t n[3];
+  for (int d = 0; d < 3; d++) n[d] = umax[d] - umin[d] + 1;  // 8-aligned already
+  const std::size_t cells = n[0] * n[1] * n[2];
+  if (largest > detail::kMaxWindowCells || cells > detail::kMaxWindowCells ||
+      cells > detail::kBatchWindowGrowth * largest)
+    return oneByOne();
+
+  uint32_t count_kz[2] = {detail::VoxelWindow::kCountAll[0], detail::VoxelWindow::kCountAll[1]};
+  if (p.countBand()) detail::countBandKeys(V, p, count_kz);
+  detail::VoxelWindow window(V, detail::stopLogOdds(p.th_occ), umin, n, sc.window, count_kz);
+  sc.counted.resize(bound + 1);  // the four-lane walker writes one past the last kept
+  window.logCounted(sc.counted.data());
+  for (std::size_t i = 0; i < poses.size(); i++)
+  {
+    out.push_back(detail::walkAll(V, sc.batch[i], window));
+    window.forgetCounted();
+  }
   return out;
 }
 

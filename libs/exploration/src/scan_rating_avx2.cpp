@@ -115,6 +115,8 @@ bool serveLane(bool at_end, Lanes& q, int l, BeamFeed& feed, VoxelWindow& w, Tal
   return true;
 }
 
+/// kLog: append each voxel counted in the loop to the window's log (rateScans).
+template <bool kLog>
 __attribute__((target("avx2"))) void walkAvx2(BeamFeed& feed, VoxelWindow& w, Tally& tally)
 {
   BeamDda s[4];
@@ -133,6 +135,8 @@ __attribute__((target("avx2"))) void walkAvx2(BeamFeed& feed, VoxelWindow& w, Ta
   double gain[4] = {0, 0, 0, 0};  // one chain of adds per lane
   uint16_t* const cells = w.cells();
   const uint32_t epoch = w.epochBase() >> kEpochShift;
+  [[maybe_unused]] uint32_t* const log = w.countedLog();
+  [[maybe_unused]] std::size_t logged = w.countedCount();
   bool live[4] = {true, true, true, true};
   while (live[0] && live[1] && live[2] && live[3])
   {
@@ -177,7 +181,15 @@ __attribute__((target("avx2"))) void walkAvx2(BeamFeed& feed, VoxelWindow& w, Ta
         const uint32_t c = cell;
         const bool bad = ((c >> kEpochShift) != epoch) | ((at_end >> l) & 1u);
         const uint32_t code = bad ? CellTable::kBad : (c & (CellTable::kBad - 1));
-        cell = static_cast<uint16_t>(c | table.mark[code]);
+        const uint16_t mark = table.mark[code];
+        cell = static_cast<uint16_t>(c | mark);
+        if constexpr (kLog)
+        {
+          // Written always, kept when counted: no branch.
+          log[logged] = static_cast<uint32_t>(at[l]);
+          logged += mark >> 9;
+          static_assert(kVisited == 1u << 9, "the mark is kVisited or 0");
+        }
         counts += table.inc[code];
         gain[l] += table.gain[code];
         leave |= static_cast<unsigned>(table.leave[code]) << l;
@@ -188,8 +200,10 @@ __attribute__((target("avx2"))) void walkAvx2(BeamFeed& feed, VoxelWindow& w, Ta
     _mm256_store_pd(q.ty, ty);
     _mm256_store_pd(q.tz, tz);
     _mm256_store_si256(reinterpret_cast<__m256i*>(q.addr), addr);
+    if constexpr (kLog) w.setCountedCount(logged);
     for (int l = 0; l < 4; l++)
       if ((leave >> l) & 1) live[l] = serveLane((at_end >> l) & 1, q, l, feed, w, tally);
+    if constexpr (kLog) logged = w.countedCount();
     if (w.classCount() != table.classes) table.update(w);
   }
   // No beam left for some lane: the others finish theirs one at a time.
@@ -211,7 +225,10 @@ bool walkBeamsAvx2(BeamFeed& feed, VoxelWindow& w, Tally& tally)
 #ifdef VOXPLORE_AVX2_WALK
   static const bool has_avx2 = __builtin_cpu_supports("avx2");
   if (!has_avx2) return false;
-  walkAvx2(feed, w, tally);
+  if (w.countedLog())
+    walkAvx2<true>(feed, w, tally);
+  else
+    walkAvx2<false>(feed, w, tally);
   return true;
 #else
   (void)feed;

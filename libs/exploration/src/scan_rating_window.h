@@ -70,6 +70,26 @@ class VoxelWindow
   /// Entropy [nats] per class; [0] = unknown (ln 2).
   const double* entropy() const { return entropy_; }
 
+  /// @brief Several ratings in one window (rateScans): the voxels each
+  ///        counts are logged into `log` (room for every voxel its beams can
+  ///        step on), so that forgetCounted() clears their counted bits and
+  ///        the next rating finds the filled blocks still there.
+  void logCounted(uint32_t* log)
+  {
+    log_ = log;
+    log_n_ = 0;
+  }
+  uint32_t* countedLog() const { return log_; }
+  std::size_t countedCount() const { return log_n_; }
+  void setCountedCount(std::size_t n) { log_n_ = n; }
+  /// Uncounts what the logged voxels counted; the log starts again.
+  void forgetCounted()
+  {
+    for (std::size_t i = 0; i < log_n_; i++)
+      cells_[log_[i]] = static_cast<uint16_t>(cells_[log_[i]] & ~kVisited);
+    log_n_ = 0;
+  }
+
   /// @brief Counts the voxel at `addr` if not yet counted (filling its block
   ///        first if needed).
   /// @return true when the voxel stops a beam
@@ -80,6 +100,7 @@ class VoxelWindow
     if (!(c & kVisited))
     {
       cells_[addr] = static_cast<uint16_t>(c | kVisited);
+      if (log_) log_[log_n_++] = static_cast<uint32_t>(addr);
       const uint32_t cls = c & kClassMask;
       t.voxels++;
       t.unknown += cls == 0;
@@ -116,6 +137,8 @@ class VoxelWindow
   std::unordered_map<uint32_t, uint32_t> code_of_;  ///< float bits -> class | stop
   uint32_t last_bits_ = 0xFFFFFFFFu;                ///< a NaN pattern OctoMap never stores
   uint16_t last_code_ = 0;
+  uint32_t* log_ = nullptr;  ///< counted voxels' addresses (logCounted), or none
+  std::size_t log_n_ = 0;
 };
 
 }  // namespace voxplore::exploration::detail

@@ -65,6 +65,19 @@ struct ScanRating
 ///        one visited set per rating (no repeated tree searches).
 ScanRating rateScan(const octomap::OcTree& V, const mrpt::poses::CPose2D& pose, const ScanRatingParams& p);
 
+/// @brief rateScan of every pose, in order, sharing one voxel window: the
+///        samples of a planning step lie within a few metres of each other,
+///        so their windows overlap, and each octree block is read once for
+///        all instead of once per rating (filling the window was ~70 % of a
+///        rating at beam_reduction 3). Same voxels and counts as rateScan;
+///        the gain may differ from it in the last bits (the four-lane walker
+///        adds the same entropies in another order; the portable walker gives
+///        the same bits). Poses too far apart for one window (more than
+///        4 times a single rating's) are rated one by one.
+std::vector<ScanRating> rateScans(const octomap::OcTree& V,
+                                  const std::vector<mrpt::poses::CPose2D>& poses,
+                                  const ScanRatingParams& p);
+
 /// @brief The same rating done naively: one OcTree::castRay per beam to find
 ///        its end, then computeRayKeys and one tree search per key (with a
 ///        KeySet for distinct voxels). The reference for tests and benchmarks.
