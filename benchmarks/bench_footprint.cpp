@@ -8,9 +8,9 @@
 // (default: the map's first free cell found from the middle), goal: the reached
 // cell farthest (straight line) from the robot.
 #include <benchmark/benchmark.h>
-#include <mrpt/config/CConfigFile.h>
 #include <mrpt/core/bits_math.h>
 #include <octomap/OcTree.h>
+#include <voxplore/common/config.h>
 #include <voxplore/exploration/Planner.h>
 #include <voxplore/exploration/footprint.h>
 
@@ -72,8 +72,8 @@ const Fixture& fixture()
   {
     // The planner's keys (e.g. footprint_bin_span and footprint_lateral_m of
     // [collision]); the robot stays the omniRob.
-    mrpt::config::CConfigFile ini(g_config_path);
-    f->params.load(ini);
+    // openIniFile: a wrong path is an error, not the defaults.
+    f->params.load(*voxplore::common::openIniFile(g_config_path));
   }
   f->params.collision.model = CollisionParams::Model::Footprint;
   f->params.projection.footprint_length_m = f->params.collision.footprint_length_m;

@@ -7,10 +7,10 @@
 // Map: --map=<file.bt> (a voxplore-explore map.bt), robot pose --pose=x,y,yaw_deg,
 // planner settings --config=<ini> (config/explore.ini).
 #include <benchmark/benchmark.h>
-#include <mrpt/config/CConfigFile.h>
 #include <mrpt/core/bits_math.h>
 #include <octomap/OcTree.h>
 #include <voxplore/common/camera_mounts.h>
+#include <voxplore/common/config.h>
 #include <voxplore/exploration/Planner.h>
 
 #include <cmath>
@@ -57,8 +57,8 @@ const Fixture& fixture()
   f->params.collision.footprint_width_m = kWidth;
   if (!g_config_path.empty())
   {
-    mrpt::config::CConfigFile ini(g_config_path);
-    f->params.load(ini);
+    // openIniFile: a wrong path is an error, not the defaults.
+    f->params.load(*voxplore::common::openIniFile(g_config_path));
   }
   f->params.projection.footprint_length_m = kLength;
   f->params.projection.footprint_width_m = kWidth;
