@@ -6,6 +6,7 @@
 #include <gtest/gtest.h>
 #include <mrpt/config/CConfigFileMemory.h>
 #include <octomap/OcTree.h>
+#include <voxplore/common/distance_transform.h>
 #include <voxplore/exploration/stages.h>
 
 #include <algorithm>
@@ -422,6 +423,102 @@ TEST(Projection, MatchesPerVoxelSearchOnPrunedAndExpandedTrees)
     ASSERT_EQ(g.state.data(), ref.state.data());
     EXPECT_GT(std::count(g.state.begin(), g.state.end(), GroundState::Free), 3000);
   }
+}
+
+// The projection cache: told where V changed, it visits only those columns
+// and gives the grid of a full projection, also when the map grows (the
+// grid's box moves), changes above the band (obstacle_z_max_m) or prunes.
+// A cache told too small a box gives another grid (the test can fail).
+TEST(Projection, ACacheToldWhereTheMapChangedGivesTheFullProjection)
+{
+  octomap::OcTree t(kRes);
+  addRoom(t, -3.2, 3.2, -3.2, 3.2);
+  ProjectionParams p;
+  p.obstacle_z_max_m = 0.60;
+  const CPose2D robot(0.05, 0.05, 0);
+  ProjectionCache cache;
+  const auto same = [&](const GroundGrid& a, const GroundGrid& b)
+  {
+    return a.state.data() == b.state.data() && a.state.getXMin() == b.state.getXMin() &&
+           a.state.getYMin() == b.state.getYMin() && a.state.getSizeX() == b.state.getSizeX() &&
+           a.robot.cx == b.robot.cx && a.robot.cy == b.robot.cy;
+  };
+  ASSERT_TRUE(same(projectToGround(t, robot, p, {}, &cache), projectToGround(t, robot, p)));
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<double> ux(-6.0, 6.0), uz(0.0, 0.8), ue(0.05, 1.6);
+  const float values[] = {freeLog(t), occLog(t), 0.2f, -0.3f};
+  std::size_t grown = 0;
+  for (int round = 0; round < 60; ++round)
+  {
+    const double x = std::floor(ux(rng) / kRes) * kRes, y = std::floor(ux(rng) / kRes) * kRes;
+    const double z = std::floor(uz(rng) / kRes) * kRes;
+    const double ex = std::ceil(ue(rng) / kRes) * kRes, ey = std::ceil(ue(rng) / kRes) * kRes;
+    const double ez = round % 3 == 0 ? 0.6 : kRes;
+    fillBox(t, x, x + ex, y, y + ey, z, z + ez, values[round % 4]);
+    if (round % 5 == 4) t.prune();
+    const octomap::OcTreeKey lo = t.coordToKey(x + 0.5 * kRes, y + 0.5 * kRes, z + 0.5 * kRes);
+    const octomap::OcTreeKey hi = t.coordToKey(x + ex - 0.5 * kRes, y + ey - 0.5 * kRes,
+                                               z + ez - 0.5 * kRes);
+    voxplore::mapping::KeyBox box;
+    for (int a = 0; a < 3; ++a)
+    {
+      box.lo[a] = lo[a];
+      box.hi[a] = hi[a] + 1;
+    }
+    cache.markChanged(box);
+    const GroundGrid full = projectToGround(t, robot, p);
+    const GroundGrid inc = projectToGround(t, robot, p, {}, &cache);
+    ASSERT_TRUE(same(inc, full)) << "round " << round;
+    grown += std::abs(x) > 4.2 || std::abs(y) > 4.2;
+  }
+  EXPECT_GT(grown, 10u) << "the test should grow the map's box";
+  EXPECT_EQ(cache.fullTallies(), 1u);
+  EXPECT_EQ(cache.partialTallies(), 60u);
+
+  // Told nothing of a change: the stale columns show (what the journal is for).
+  fillBox(t, 1.0, 1.5, 1.0, 1.5, 0.2, 0.3, occLog(t));
+  EXPECT_FALSE(same(projectToGround(t, robot, p, {}, &cache), projectToGround(t, robot, p)));
+  cache.markAllChanged();
+  EXPECT_TRUE(same(projectToGround(t, robot, p, {}, &cache), projectToGround(t, robot, p)));
+  EXPECT_EQ(cache.fullTallies(), 2u);
+  // Another band, or incremental off: every column again.
+  p.obstacle_z_max_m = ProjectionParams::kAuto;
+  EXPECT_TRUE(same(projectToGround(t, robot, p, {}, &cache), projectToGround(t, robot, p)));
+  EXPECT_EQ(cache.fullTallies(), 3u);
+  p.incremental = false;
+  fillBox(t, -1.0, -0.5, 1.0, 1.5, 0.2, 0.3, occLog(t));
+  EXPECT_TRUE(same(projectToGround(t, robot, p, {}, &cache), projectToGround(t, robot, p)));
+}
+
+// The exact squared EDT every stage uses: brute force on random sources,
+// thin and empty grids included, value for value (integers are exact).
+TEST(DistanceTransform, EqualsBruteForceOnRandomSourcesAndShapes)
+{
+  std::mt19937 rng(5);
+  const std::pair<int, int> shapes[] = {{1, 1}, {1, 17}, {23, 1}, {37, 29}, {64, 3}, {5, 80}};
+  for (const auto& [w, h] : shapes)
+    for (const double density : {0.0, 0.002, 0.05, 0.5})
+    {
+      std::bernoulli_distribution source(density);
+      std::vector<double> sq(static_cast<std::size_t>(w) * h, voxplore::common::kEdtFar);
+      std::vector<std::pair<int, int>> sources;
+      for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x)
+          if (source(rng))
+          {
+            sq[x + y * w] = 0.0;
+            sources.emplace_back(x, y);
+          }
+      voxplore::common::squaredDistanceTransform(sq, w, h);
+      for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x)
+        {
+          double best = voxplore::common::kEdtFar;
+          for (const auto& [sx, sy] : sources)
+            best = std::min(best, double((x - sx) * (x - sx) + (y - sy) * (y - sy)));
+          ASSERT_EQ(sq[x + y * w], best) << w << "x" << h << " at " << x << "," << y;
+        }
+    }
 }
 
 // ------------------------------------------------------------- collision space

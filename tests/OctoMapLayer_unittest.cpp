@@ -277,7 +277,7 @@ TEST(OctoMapLayer, StockPathEqualsInsertPointCloud)
     octomap::Pointcloud cloud;
     for (const auto& p : rays.endpoints_world) cloud.push_back(p.x(), p.y(), p.z());
     const auto& o = rays.origin_world;
-    direct.tree().insertPointCloud(cloud, octomap::point3d(o.x(), o.y(), o.z()),
+    direct.mutableTree().insertPointCloud(cloud, octomap::point3d(o.x(), o.y(), o.z()),
                                    direct.params().max_range_m, false, false);
   }
   EXPECT_EQ(voxelValues(stock.tree()), voxelValues(direct.tree()));
@@ -580,4 +580,114 @@ TEST(OctoMapLayer, LowObstaclesOffOrAbsentGiveNone)
   for (const auto& c : scanLowPlate(OctoMapParams{}, false).lowObstacles())
     EXPECT_LT(std::min({c.x(), 8 - c.x(), c.y(), 6 - c.y()}), 0.05)
         << "low obstacle cell (" << c.x() << ", " << c.y() << ") on the open floor";
+}
+
+// ----------------------------------------------------------------- journal
+
+namespace
+{
+/// Keys whose voxel value differs between two voxelValues() lists (or is in one only).
+std::vector<VoxelKey> changedKeys(const std::vector<std::pair<VoxelKey, float>>& a,
+                                  const std::vector<std::pair<VoxelKey, float>>& b)
+{
+  std::vector<VoxelKey> out;
+  std::size_t i = 0, j = 0;
+  while (i < a.size() || j < b.size())
+  {
+    if (j == b.size() || (i < a.size() && a[i].first < b[j].first))
+      out.push_back(a[i++].first);
+    else if (i == a.size() || b[j].first < a[i].first)
+      out.push_back(b[j++].first);
+    else
+    {
+      if (a[i].second != b[j].second) out.push_back(a[i].first);
+      ++i, ++j;
+    }
+  }
+  return out;
+}
+
+bool inBox(const mapping::KeyBox& box, const VoxelKey& k)
+{
+  for (int a = 0; a < 3; ++a)
+    if (k[a] < box.lo[a] || k[a] >= box.hi[a]) return false;
+  return true;
+}
+}  // namespace
+
+// The planner's projection visits again only what changedSince() names: it
+// must hold every voxel a scan changed, whichever inserter, with clearing
+// rays and the start box, and say "not known" where it cannot follow.
+TEST(OctoMapLayer, TheJournalHoldsEveryChangedVoxel)
+{
+  const RoomScans room;
+  for (const auto& [name, insert] : kInserters)
+  {
+    SCOPED_TRACE(name);
+    OctoMapParams params;
+    params.invalid_free_range_m = 3.0;
+    OctoMapLayer layer(params);
+    const mapping::MapRevision at_start = layer.revision();
+    EXPECT_TRUE(layer.changedSince(at_start).value().empty()) << "nothing changed yet";
+    auto before = voxelValues(layer.tree());
+    mapping::MapRevision rev = layer.revision();
+    layer.setStartBoxFree(room.stops[0].first);
+    std::size_t changed_total = 0, box_volume_max = 0;
+    const auto check = [&]
+    {
+      const auto after = voxelValues(layer.tree());
+      const auto box = layer.changedSince(rev);
+      ASSERT_TRUE(box.has_value());
+      const auto changed = changedKeys(before, after);
+      for (const auto& k : changed) ASSERT_TRUE(inBox(*box, k));
+      changed_total += changed.size();
+      std::size_t volume = 1;
+      for (int a = 0; a < 3; ++a) volume *= static_cast<std::size_t>(box->hi[a] - box->lo[a]);
+      box_volume_max = std::max(box_volume_max, volume);
+      before = after;
+      rev = layer.revision();
+    };
+    check();
+    for (const auto& [pose, scans] : room.stops)
+      for (const auto& obs : scans)
+      {
+        (layer.*insert)(*obs, pose);
+        check();
+      }
+    EXPECT_GT(changed_total, 100000u);
+    // One camera's box, not the world's: a box is a camera's view at most
+    // 7 m deep, far less than the octree's 2^16 keys a side.
+    EXPECT_LT(box_volume_max, 300u * 300u * 300u);
+    // Since the start: everything, in one box.
+    const auto all = layer.changedSince(at_start);
+    ASSERT_TRUE(all.has_value());
+    for (const auto& [k, v] : voxelValues(layer.tree())) ASSERT_TRUE(inBox(*all, k));
+
+    // Not known: another map's revision, a revision from before mutableTree().
+    OctoMapLayer other(params);
+    EXPECT_FALSE(other.changedSince(layer.revision()).has_value());
+    const mapping::MapRevision before_mutable = layer.revision();
+    layer.mutableTree();
+    EXPECT_FALSE(layer.changedSince(before_mutable).has_value());
+    // A map moved in (the loop closure's rebuilt one) brings its own id.
+    const mapping::MapRevision old_map = layer.revision();
+    layer = std::move(other);
+    EXPECT_FALSE(layer.changedSince(old_map).has_value());
+  }
+}
+
+TEST(OctoMapLayer, TheJournalForgetsOnlyBeyondItsSize)
+{
+  const RoomScans room;
+  OctoMapLayer layer;
+  const mapping::MapRevision first = layer.revision();
+  const auto& obs = *room.stops[0].second[0];
+  for (std::size_t i = 0; i < OctoMapLayer::kJournalSize; ++i)
+    layer.insertScan(obs, room.stops[0].first);
+  EXPECT_TRUE(layer.changedSince(first).has_value()) << "exactly kJournalSize changes are kept";
+  layer.insertScan(obs, room.stops[0].first);
+  EXPECT_FALSE(layer.changedSince(first).has_value());
+  mapping::MapRevision recent = layer.revision();
+  recent.rev -= 10;
+  EXPECT_TRUE(layer.changedSince(recent).has_value());
 }

@@ -97,7 +97,7 @@ TEST(Replay, MapPrecisionAgainstGroundTruthVoxels)
   octomap::OcTree tree(tmp("replay_icp") + "/map.bt");
   mapping::OctoMapParams p;
   mapping::OctoMapLayer layer(p);
-  layer.tree().swapContent(tree);
+  layer.mutableTree().swapContent(tree);
   const auto occ = layer.occupiedVoxelCenters();
   ASSERT_GT(occ.size(), 1000u);
   const auto gt_traj = common::readTum(test::sourceDir() + "/rawlogs/dlr_test_room/trajectory_gt.tum");

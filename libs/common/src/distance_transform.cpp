@@ -1,6 +1,7 @@
 /* voxplore — separable squared EDT (Felzenszwalb & Huttenlocher 2012). */
 #include <voxplore/common/distance_transform.h>
 
+#include <algorithm>
 #include <limits>
 
 namespace voxplore::common
@@ -52,13 +53,28 @@ void transform1d(int n, Scratch& s)
 
 void squaredDistanceTransform(std::vector<double>& sq, int width, int height)
 {
-  Scratch s(width > height ? width : height);
-  for (int x = 0; x < width; ++x)  // columns
+  // Columns: with sources of value 0 and kEdtFar elsewhere, the 1D
+  // transform of a column is the squared distance along it to its nearest
+  // source (Meijster et al. 2000, phase 1): two sweeps over whole rows,
+  // contiguous in memory, instead of the lower envelope of every column
+  // gathered at a stride of a row (the same values: integers, exact in a
+  // double, and kEdtFar where a column holds no source).
+  const std::size_t w = static_cast<std::size_t>(width);
+  for (int y = 1; y < height; ++y)
   {
-    for (int y = 0; y < height; ++y) s.f[y] = sq[x + y * width];
-    transform1d(height, s);
-    for (int y = 0; y < height; ++y) sq[x + y * width] = s.d[y];
+    const double* above = sq.data() + (y - 1) * w;
+    double* row = sq.data() + y * w;
+    for (std::size_t x = 0; x < w; ++x)
+      row[x] = row[x] == 0.0 ? 0.0 : std::min(above[x] + 1.0, kEdtFar);
   }
+  for (int y = height - 2; y >= 0; --y)
+  {
+    const double* below = sq.data() + (y + 1) * w;
+    double* row = sq.data() + y * w;
+    for (std::size_t x = 0; x < w; ++x) row[x] = std::min(row[x], below[x] + 1.0);
+  }
+  for (double& v : sq) v = v >= kEdtFar / 2 ? kEdtFar : v * v;
+  Scratch s(width);
   for (int y = 0; y < height; ++y)  // rows
   {
     double* row = sq.data() + static_cast<std::size_t>(y) * width;

@@ -281,12 +281,13 @@ PlanResult plan(
     const octomap::OcTree& V, const CPose2D& robot, const PlannerParams& p,
     const std::vector<Eigen::Vector2d>& blacklist, uint64_t step,
     const SweptPath& swept, const std::vector<Eigen::Vector2d>& sensed_obstacles,
-    const std::vector<Eigen::Vector2d>& approach, const std::vector<Eigen::Vector2d>& low_obstacles)
+    const std::vector<Eigen::Vector2d>& approach, const std::vector<Eigen::Vector2d>& low_obstacles,
+    ProjectionCache* projection_cache)
 {
   PlanResult r;
   mrpt::system::CTicTac total, tic;
   auto ground = std::make_shared<GroundGrid>(
-      projectToGround(V, robot, p.projectionInForce(V.getResolution()), swept));
+      projectToGround(V, robot, p.projectionInForce(V.getResolution()), swept, projection_cache));
   stampObstacles(*ground, sensed_obstacles, low_obstacles, p.collision.low_obstacles_on_unknown);
   r.ms.projection = 1e3 * tic.Tac();
   tic.Tic();

@@ -4,6 +4,7 @@
 #include <voxplore/common/config.h>
 #include <voxplore/mapping/OctoMapLayer.h>
 
+#include <atomic>
 #include <cmath>
 #include <fstream>
 #include <limits>
@@ -39,6 +40,49 @@ octomap::Pointcloud clearingTargets(const PixelRays& rays, double range_m)
     out.push_back(origin + toPoint3d(d) * static_cast<float>(2.0 * range_m));
   return out;
 }
+
+/// A new map id for OctoMapLayer's journal, never 0 and never given twice.
+uint64_t newMapId()
+{
+  static std::atomic<uint64_t> next{1};
+  return next.fetch_add(1, std::memory_order_relaxed);
+}
+
+/// Coordinate bounds of the points a scan's rays run between. The voxels a
+/// ray passes lie, on every axis, between its two ends' keys (a key is a
+/// monotone function of the coordinate), so these bounds' keys, one voxel
+/// wider for the float rounding, hold every voxel the scan may change.
+struct PointBounds
+{
+  octomap::point3d lo{std::numeric_limits<float>::max(), std::numeric_limits<float>::max(),
+                      std::numeric_limits<float>::max()};
+  octomap::point3d hi{-std::numeric_limits<float>::max(), -std::numeric_limits<float>::max(),
+                      -std::numeric_limits<float>::max()};
+
+  void add(const octomap::point3d& p)
+  {
+    for (unsigned a = 0; a < 3; ++a)
+    {
+      lo(a) = std::min(lo(a), p(a));
+      hi(a) = std::max(hi(a), p(a));
+    }
+  }
+  /// Empty when no point was added; nullopt when a bound is outside the tree.
+  std::optional<KeyBox> keys(const octomap::OcTree& t) const
+  {
+    if (lo.x() > hi.x()) return KeyBox{};
+    octomap::OcTreeKey a, b;
+    if (!detail::coordToKeySafe(t, lo, a) || !detail::coordToKeySafe(t, hi, b))
+      return std::nullopt;
+    KeyBox k;
+    for (int i = 0; i < 3; ++i)
+    {
+      k.lo[i] = std::max(0, static_cast<int>(a[i]) - 1);
+      k.hi[i] = static_cast<int>(b[i]) + 2;
+    }
+    return k;
+  }
+};
 
 octomap::Pointcloud toPointcloud(const std::vector<Eigen::Vector3d>& pts)
 {
@@ -158,6 +202,7 @@ OctoMapLayer::OctoMapLayer(const OctoMapParams& params) : params_(params), low_(
   tree->setClampingThresMin(params_.clamp_min);
   tree->setClampingThresMax(params_.clamp_max);
   tree_ = std::move(tree);
+  id_ = newMapId();
   if (params_.low_obstacle_min_z_m > 0)
     low_.setBands(params_.low_obstacle_floor_z_m, params_.low_obstacle_min_z_m,
                   params_.low_obstacle_max_z_m);
@@ -185,9 +230,37 @@ const octomap::OcTree& OctoMapLayer::tree() const
 {
   return *tree_;
 }
-octomap::OcTree& OctoMapLayer::tree()
+octomap::OcTree& OctoMapLayer::mutableTree()
 {
+  journal(std::nullopt);
   return *tree_;
+}
+
+void OctoMapLayer::journal(const std::optional<KeyBox>& b)
+{
+  if (!b)
+  {
+    id_ = newMapId();
+    rev_ = journal_first_ = 0;
+    journal_.clear();
+    return;
+  }
+  if (journal_.size() == kJournalSize)
+  {
+    const std::size_t drop = kJournalSize / 2;
+    journal_.erase(journal_.begin(), journal_.begin() + static_cast<std::ptrdiff_t>(drop));
+    journal_first_ += drop;
+  }
+  journal_.push_back(*b);
+  ++rev_;
+}
+
+std::optional<KeyBox> OctoMapLayer::changedSince(const MapRevision& since) const
+{
+  if (since.map != id_ || since.rev > rev_ || since.rev < journal_first_) return std::nullopt;
+  KeyBox out;
+  for (std::size_t i = since.rev - journal_first_; i < journal_.size(); ++i) out.extend(journal_[i]);
+  return out;
 }
 
 std::size_t OctoMapLayer::numLeafNodes() const
@@ -210,6 +283,8 @@ InsertStats OctoMapLayer::insertScan(const mrpt::obs::CObservation3DRangeScan& o
   InsertStats st;
   st.invalid = rays.invalid_dirs_world.size() + rays.unusable;
   st.rays = rays.endpoints_world.size();
+  PointBounds bounds;
+  bounds.add(origin);
   for (const auto& p_world : rays.endpoints_world)
   {
     octomap::point3d end;
@@ -217,6 +292,7 @@ InsertStats OctoMapLayer::insertScan(const mrpt::obs::CObservation3DRangeScan& o
     octomap::OcTreeKey key;
     st.hits += hit && detail::coordToKeySafe(*tree_, end, key);
     collector.addRay(origin, end, hit);
+    bounds.add(end);
   }
   if (clear_range > 0)
   {
@@ -226,10 +302,12 @@ InsertStats OctoMapLayer::insertScan(const mrpt::obs::CObservation3DRangeScan& o
       octomap::point3d end;
       detail::clipRay(origin, far, clear_range, end);
       collector.addRay(origin, end, false);
+      bounds.add(end);
     }
   }
   std::vector<std::uint64_t> entries = collector.release();
   std::tie(st.free_updates, st.occ_updates) = detail::sortUnique(entries);
+  if (!entries.empty()) journal(bounds.keys(*tree_));
   detail::applyBatch(static_cast<detail::LayerTree&>(*tree_), entries);
   return st;
 }
@@ -252,14 +330,21 @@ InsertStats OctoMapLayer::insertScanStock(const mrpt::obs::CObservation3DRangeSc
   // sets and the counts are known.
   octomap::KeySet free_cells, occupied_cells;
   tree_->computeUpdate(cloud, origin, free_cells, occupied_cells, params_.max_range_m);
+  // computeUpdate clips the rays on their way to these points.
+  PointBounds bounds;
+  bounds.add(origin);
+  for (const auto& q : cloud) bounds.add(q);
+  const octomap::Pointcloud clearing =
+      clear_range > 0 ? clearingTargets(rays, clear_range) : octomap::Pointcloud();
+  for (const auto& q : clearing) bounds.add(q);
   if (clear_range > 0)
   {
     octomap::KeySet clear_free, clear_occ;  // clear_occ stays empty: all rays truncated
-    tree_->computeUpdate(clearingTargets(rays, clear_range), origin, clear_free, clear_occ,
-                         clear_range);
+    tree_->computeUpdate(clearing, origin, clear_free, clear_occ, clear_range);
     for (const auto& k : clear_free)
       if (occupied_cells.count(k) == 0) free_cells.insert(k);
   }
+  if (!free_cells.empty() || !occupied_cells.empty()) journal(bounds.keys(*tree_));
   for (const auto& k : free_cells) tree_->updateNode(k, false, false);
   for (const auto& k : occupied_cells) tree_->updateNode(k, true, false);
   st.free_updates = free_cells.size();
@@ -287,6 +372,13 @@ void OctoMapLayer::setStartBoxFree(const mrpt::poses::CPose3D& T_world_robot)
       !detail::coordToKeySafe(*tree_, toPoint3d(hi), kmax))
     THROW_EXCEPTION("OctoMapLayer::setStartBoxFree: start box outside the octree's range");
   const float free_log_odds = tree_->getClampingThresMinLog();
+  KeyBox changed;
+  for (int a = 0; a < 3; ++a)
+  {
+    changed.lo[a] = kmin[a];
+    changed.hi[a] = kmax[a] + 1;
+  }
+  journal(changed);
   constexpr double kEps = 1e-9;
   for (unsigned kx = kmin[0]; kx <= kmax[0]; kx++)
     for (unsigned ky = kmin[1]; ky <= kmax[1]; ky++)

@@ -199,6 +199,17 @@ std::string ExplorationLoop::limitReached(bool between_steps)
   return {};
 }
 
+exploration::ProjectionCache* ExplorationLoop::projectionCache()
+{
+  const mapping::OctoMapLayer& map = slam_.octomap();
+  if (const auto changed = map.changedSince(projected_at_))
+    projection_cache_.markChanged(*changed);
+  else
+    projection_cache_.markAllChanged();
+  projected_at_ = map.revision();
+  return &projection_cache_;
+}
+
 void ExplorationLoop::loop()
 {
   scanAndIntegrate();
@@ -225,7 +236,8 @@ void ExplorationLoop::loop()
                                                       planner_.projection.region},
                               slam_.octomap().tree());
     auto plan = exploration::plan(slam_.octomap().tree(), slam_.currentPose(), planner_,
-                                  blacklist_, step, swept_, sensed_obstacles_, approach, low);
+                                  blacklist_, step, swept_, sensed_obstacles_, approach, low,
+                                  projectionCache());
     if (!plan.ok() && slam_.octomapRebuildPending() > 0)
     {
       // The OctoMap after a loop closure is still being rebuilt over the
@@ -233,7 +245,7 @@ void ExplorationLoop::loop()
       slam_.finishMapRebuild();
       low = slam_.octomap().lowObstacles();
       plan = exploration::plan(slam_.octomap().tree(), slam_.currentPose(), planner_, blacklist_,
-                               step, swept_, sensed_obstacles_, approach, low);
+                               step, swept_, sensed_obstacles_, approach, low, projectionCache());
     }
     setLowAtPlan(low);
     double cut_off_m2 = 0;  // known floor cut off from the robot, when the planner found nothing

@@ -35,7 +35,8 @@ void ExplorationLoop::replanShutIn(exploration::PlanResult& plan, double cut_off
   relaxed.collision.swept_passage = true;
   const auto planRelaxed = [&] {
     return exploration::plan(slam_.octomap().tree(), slam_.currentPose(), relaxed, blacklist_,
-                             step, swept_, {}, approach, slam_.octomap().lowObstacles());
+                             step, swept_, {}, approach, slam_.octomap().lowObstacles(),
+                             projectionCache());
   };
   auto again = planRelaxed();
   message(mrpt::format("shut in: %.0f m^2 of known floor cut off from the robot (%s); planned "

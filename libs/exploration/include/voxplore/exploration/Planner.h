@@ -152,12 +152,15 @@ struct PlanResult
 ///        open is judged as if none had been stamped (GroundGrid::low_was):
 ///        stamps closing the unknown beside them took frontiers away (b4
 ///        omniRob nbv 0.968 -> 0.906, a room behind a 0.8 m opening).
+/// @param projection_cache the projection's columns from the last step,
+///        told where V changed since (projectToGround); nullptr: none.
 PlanResult plan(
     const octomap::OcTree& V, const mrpt::poses::CPose2D& robot, const PlannerParams& params,
     const std::vector<Eigen::Vector2d>& blacklist = {}, uint64_t step = 0,
     const SweptPath& swept = {}, const std::vector<Eigen::Vector2d>& sensed_obstacles = {},
     const std::vector<Eigen::Vector2d>& approach = {},
-    const std::vector<Eigen::Vector2d>& low_obstacles = {});
+    const std::vector<Eigen::Vector2d>& low_obstacles = {},
+    ProjectionCache* projection_cache = nullptr);
 
 /// @brief PNG of G with its layers in the thesis' colours (fig. 4.12): free
 ///        white, occupied black, unknown red, collision grey, maybe-collision

@@ -6,9 +6,11 @@
 #include <mrpt/poses/CPose2D.h>
 #include <voxplore/exploration/collision_params.h>
 #include <voxplore/exploration/grid.h>
+#include <voxplore/mapping/map_changes.h>
 
 #include <Eigen/Core>
 #include <algorithm>
+#include <memory>
 #include <optional>
 #include <random>
 #include <string>
@@ -67,6 +69,10 @@ struct ProjectionParams : public mrpt::config::CLoadableOptions
   double footprint_length_m = 0, footprint_width_m = 0;
   bool swept_footprint = true;           ///< false: swept_radius_m only (the thesis has neither)
   double swept_footprint_margin_m = 0.05;  ///< the rectangle is shrunk by this on each side [m]
+  /// With a ProjectionCache, visit only the voxels of the columns V changed
+  /// since the cache's last projection (the same grid either way); false:
+  /// every column every time.
+  bool incremental = true;
   void loadFromConfigFile(const mrpt::config::CConfigFileBase& c, const std::string& s) override;
   void saveToConfigFile(mrpt::config::CConfigFileBase& c, const std::string& s) const override;
 };
@@ -84,6 +90,38 @@ struct GroundGrid
   std::vector<uint8_t> low_was;
 };
 
+/// @brief What projectToGround keeps from one call to the next so that it
+///        visits only the voxel columns V changed in between (issue 12: the
+///        planning step at building scale). Its cost was the per-column tally
+///        of every leaf in the z band; the caller tells the cache where V
+///        changed (markChanged, e.g. from OctoMapLayer::changedSince), and the
+///        other columns' tallies are the last call's. The grid is the one a
+///        full projection gives (tested). Our own: OctoMap's change detection
+///        records occupancy flips only, not the projection's th_free.
+class ProjectionCache
+{
+ public:
+  ProjectionCache();
+  ~ProjectionCache();
+  ProjectionCache(ProjectionCache&&) noexcept;
+  ProjectionCache& operator=(ProjectionCache&&) noexcept;
+
+  /// @brief V's voxels in `keys` (OctoMap keys) changed since the last projection.
+  void markChanged(const mapping::KeyBox& keys);
+  /// @brief Where V changed is not known: the next projection visits every column.
+  void markAllChanged();
+  /// @brief Projections that visited every column / only the changed ones.
+  std::size_t fullTallies() const;
+  std::size_t partialTallies() const;
+
+  struct State;  ///< projection.cpp's
+
+ private:
+  friend GroundGrid projectToGround(const octomap::OcTree&, const mrpt::poses::CPose2D&,
+                                    const ProjectionParams&, const SweptPath&, ProjectionCache*);
+  std::unique_ptr<State> s_;
+};
+
 /// @brief Algorithm 2: flood fill from the robot's column over voxel columns
 ///        [z_min, z_max] of V; a column is occupied if any voxel > th_occ,
 ///        unknown if any voxel is >= th_free or has never been observed,
@@ -92,9 +130,12 @@ struct GroundGrid
 ///        the cameras cannot see it). Columns outside p.region (when set) are
 ///        Occupied. Cells the fill does not reach stay Unknown. The grid covers V's bounds plus margin and
 ///        the robot; its resolution is V's.
+///        With `cache` (and p.incremental), only the columns it was told V
+///        changed in are visited again; it must see every change to V (and
+///        only this V) between calls.
 GroundGrid projectToGround(
     const octomap::OcTree& V, const mrpt::poses::CPose2D& robot, const ProjectionParams& p,
-    const SweptPath& swept = {});
+    const SweptPath& swept = {}, ProjectionCache* cache = nullptr);
 
 /// @brief Obstacles the voxel columns do not show, stamped Occupied into G
 ///        (map frame points; none on the robot's cell). `sensed` (points the

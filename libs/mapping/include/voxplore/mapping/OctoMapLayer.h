@@ -7,9 +7,11 @@
 #include <mrpt/poses/CPose3D.h>
 
 #include <voxplore/mapping/LowObstacleGrid.h>
+#include <voxplore/mapping/map_changes.h>
 
 #include <Eigen/Core>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -142,14 +144,34 @@ class OctoMapLayer
   void writeBinary(const std::string& path) const;
 
   const octomap::OcTree& tree() const;
-  octomap::OcTree& tree();
+  /// @brief The tree, for changes the journal cannot follow: the map gets a
+  ///        new id, so that changedSince() answers "not known" to every
+  ///        revision taken before.
+  octomap::OcTree& mutableTree();
+
+  /// @brief The map's revision now. insertScan, insertScanStock and
+  ///        setStartBoxFree journal the box of keys they may change; a layer
+  ///        moved in (the loop closure's rebuilt map) brings its own id.
+  MapRevision revision() const { return {id_, rev_}; }
+  /// @brief A box holding the key of every voxel changed since `since`
+  ///        (empty: none), or nullopt when that is not known: `since` is of
+  ///        another map (or of this one before mutableTree()), or older than
+  ///        the journal keeps (kJournalSize changes).
+  std::optional<KeyBox> changedSince(const MapRevision& since) const;
+  static constexpr std::size_t kJournalSize = 1024;
 
  private:
   void countLow(const PixelRays& rays);
+  /// Records a change within `b`; nullopt: somewhere (a new map id).
+  void journal(const std::optional<KeyBox>& b);
 
   OctoMapParams params_;
   std::unique_ptr<octomap::OcTree> tree_;
   LowObstacleGrid low_;
+  uint64_t id_ = 0;
+  uint64_t rev_ = 0;
+  uint64_t journal_first_ = 0;  ///< journal_[i] made revision journal_first_ + i + 1
+  std::vector<KeyBox> journal_;
 };
 
 /// @brief Per-pixel ray of a depth image: world-frame camera origin and, for

@@ -323,6 +323,8 @@ class ExplorationLoop
   std::string limitReached(bool between_steps);
   /// Clock seconds since run() started.
   double elapsedSeconds() const;
+  /// The projection cache, told where the map changed since the last plan.
+  exploration::ProjectionCache* projectionCache();
 
   navigation::RobotInterface& robot_;
   ScanSource& scans_;
@@ -331,6 +333,8 @@ class ExplorationLoop
   ExplorationLoopParams params_;
   Listener* listener_;
   mapping::SlamIcp slam_;
+  exploration::ProjectionCache projection_cache_;
+  mapping::MapRevision projected_at_;  ///< the map's revision projection_cache_ last saw
   std::unique_ptr<PosedRobot> posed_;
   std::unique_ptr<navigation::StopAndScanDriver> driver_;
   mrpt::Clock::time_point t_start_;
