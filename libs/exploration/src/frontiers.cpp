@@ -10,6 +10,8 @@
 #include <queue>
 #include <vector>
 
+#include "radix_heap.h"
+
 namespace voxplore::exploration
 {
 namespace
@@ -44,8 +46,36 @@ bool mayEnter(const Search& s, int from, int to)
   return false;
 }
 
+/// Relaxes the 8 neighbours of cell i, settled at distance d: push(nd, j)
+/// for each neighbour j it brings closer.
+template <typename Push>
+void relaxNeighbours(Search& s, double d, int i, Push&& push)
+{
+  const int cx = i % s.nx, cy = i / s.nx;
+  for (int k = 0; k < 8; ++k)
+  {
+    const int x = cx + kDx[k], y = cy + kDy[k];
+    if (x < 0 || y < 0 || x >= s.nx || y >= s.ny) continue;
+    const int j = x + y * s.nx;
+    if (!mayEnter(s, i, j)) continue;
+    if (k >= 4 &&
+        (!mayEnter(s, i, cx + kDx[k] + cy * s.nx) || !mayEnter(s, i, cx + (cy + kDy[k]) * s.nx)))
+      continue;
+    const double nd = d + (k < 4 ? 1.0 : kSqrt2);
+    if (s.dist[j] >= 0 && s.dist[j] <= nd) continue;
+    s.dist[j] = nd;
+    s.escape[j] = s.escape[i] && !s.free_settled && s.space[j] != SpaceState::Free;
+    push(nd, j);
+  }
+}
+
 /// 8-connected Dijkstra, 1 per straight step and sqrt(2) per diagonal one;
-/// a diagonal step needs both cells beside it to be enterable (no corner cutting).
+/// a diagonal step needs both cells beside it to be enterable (no corner
+/// cutting). The escape from a non-Free start depends on the order in which
+/// equal distances are settled, so a binary heap ordered by (distance, cell)
+/// runs until the first Free cell is settled; from then on the escape is
+/// fixed, the distances do not depend on that order (each is the smallest
+/// of its closer neighbours' plus a step), and a radix heap takes over.
 void runDijkstra(Search& s, int start)
 {
   using Item = std::pair<double, int>;
@@ -53,28 +83,23 @@ void runDijkstra(Search& s, int start)
   s.dist[start] = 0;
   s.escape[start] = s.space[start] != SpaceState::Free;
   open.push({0.0, start});
-  while (!open.empty())
+  double last = 0;
+  while (!open.empty() && !s.free_settled)
   {
     const auto [d, i] = open.top();
     open.pop();
     if (d > s.dist[i]) continue;
+    last = d;
     if (s.space[i] == SpaceState::Free) s.free_settled = true;
-    const int cx = i % s.nx, cy = i / s.nx;
-    for (int k = 0; k < 8; ++k)
-    {
-      const int x = cx + kDx[k], y = cy + kDy[k];
-      if (x < 0 || y < 0 || x >= s.nx || y >= s.ny) continue;
-      const int j = x + y * s.nx;
-      if (!mayEnter(s, i, j)) continue;
-      if (k >= 4 &&
-          (!mayEnter(s, i, cx + kDx[k] + cy * s.nx) || !mayEnter(s, i, cx + (cy + kDy[k]) * s.nx)))
-        continue;
-      const double nd = d + (k < 4 ? 1.0 : kSqrt2);
-      if (s.dist[j] >= 0 && s.dist[j] <= nd) continue;
-      s.dist[j] = nd;
-      s.escape[j] = s.escape[i] && !s.free_settled && s.space[j] != SpaceState::Free;
-      open.push({nd, j});
-    }
+    relaxNeighbours(s, d, i, [&](double nd, int j) { open.push({nd, j}); });
+  }
+  detail::RadixHeap<int> rest(last);
+  for (; !open.empty(); open.pop()) rest.push(open.top().first, open.top().second);
+  while (!rest.empty())
+  {
+    const auto [d, i] = rest.pop();
+    if (d > s.dist[i]) continue;
+    relaxNeighbours(s, d, i, [&](double nd, int j) { rest.push(nd, j); });
   }
 }
 
