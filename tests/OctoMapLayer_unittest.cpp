@@ -678,16 +678,20 @@ TEST(OctoMapLayer, TheJournalHoldsEveryChangedVoxel)
 
 TEST(OctoMapLayer, TheJournalForgetsOnlyBeyondItsSize)
 {
-  const RoomScans room;
-  OctoMapLayer layer;
+  // A start box of one voxel column: a journaled change that costs nothing.
+  OctoMapParams params;
+  params.start_box_x_m = params.start_box_y_m = params.start_box_z_m = 0.05;
+  OctoMapLayer layer(params);
   const mapping::MapRevision first = layer.revision();
-  const auto& obs = *room.stops[0].second[0];
-  for (std::size_t i = 0; i < OctoMapLayer::kJournalSize; ++i)
-    layer.insertScan(obs, room.stops[0].first);
+  for (std::size_t i = 0; i < OctoMapLayer::kJournalSize; ++i) layer.setStartBoxFree(CPose3D());
+  EXPECT_EQ(layer.revision().rev, OctoMapLayer::kJournalSize);
   EXPECT_TRUE(layer.changedSince(first).has_value()) << "exactly kJournalSize changes are kept";
-  layer.insertScan(obs, room.stops[0].first);
+  layer.setStartBoxFree(CPose3D());
   EXPECT_FALSE(layer.changedSince(first).has_value());
   mapping::MapRevision recent = layer.revision();
   recent.rev -= 10;
-  EXPECT_TRUE(layer.changedSince(recent).has_value());
+  const auto box = layer.changedSince(recent);
+  ASSERT_TRUE(box.has_value());
+  EXPECT_FALSE(box->empty());
+  EXPECT_TRUE(layer.changedSince(layer.revision()).value().empty()) << "nothing since now";
 }
