@@ -1,4 +1,5 @@
-/* voxplore — separable squared EDT (Felzenszwalb & Huttenlocher 2012). */
+/* voxplore — separable squared EDT: the columns by two sweeps (Meijster et
+ * al. 2000), the rows by lower envelopes (Felzenszwalb & Huttenlocher 2012). */
 #include <voxplore/common/distance_transform.h>
 
 #include <algorithm>
@@ -73,12 +74,11 @@ void squaredDistanceTransform(std::vector<double>& sq, int width, int height)
     double* row = sq.data() + y * w;
     for (std::size_t x = 0; x < w; ++x) row[x] = std::min(row[x], below[x] + 1.0);
   }
-  for (double& v : sq) v = v >= kEdtFar / 2 ? kEdtFar : v * v;
   Scratch s(width);
-  for (int y = 0; y < height; ++y)  // rows
+  for (int y = 0; y < height; ++y)  // rows, over the columns' squared distances
   {
     double* row = sq.data() + static_cast<std::size_t>(y) * width;
-    for (int x = 0; x < width; ++x) s.f[x] = row[x];
+    for (int x = 0; x < width; ++x) s.f[x] = row[x] >= kEdtFar / 2 ? kEdtFar : row[x] * row[x];
     transform1d(width, s);
     for (int x = 0; x < width; ++x) row[x] = s.d[x];
   }

@@ -33,8 +33,7 @@ struct ProjectionCache::State
   int above_hi = 0;      ///< end key of the band above (box.hi[2]: none)
   float lo_free = 0, lo_occ = 0;  ///< its thresholds (log-odds)
   detail::ColumnTally tally;
-  bool valid = false;
-  bool all_changed = true;
+  bool all_changed = true;  ///< also while a tally is under way (an exception leaves it set)
   mapping::KeyBox changed;  ///< where V changed since (markChanged)
   std::size_t full = 0, partial = 0;
 };
@@ -200,10 +199,10 @@ const ColumnTally& tallyColumns(const octomap::OcTree& V, const KeyBox& band, in
   const float lo_occ = static_cast<float>(octomap::logodds(th_occ));
   KeyBox columns = band;
   columns.hi[2] = above_hi;
-  const bool reuse = c && c->valid && !c->all_changed && c->tree == &V &&
+  const bool reuse = c && !c->all_changed && c->tree == &V &&
                      c->box.lo[2] == band.lo[2] && c->box.hi[2] == band.hi[2] &&
                      c->above_hi == above_hi && c->lo_free == lo_free && c->lo_occ == lo_occ;
-  if (c) c->valid = false;  // until the tally below is complete
+  if (c) c->all_changed = true;  // until the tally below is complete
   if (!reuse)
   {
     ColumnTally& t = c ? c->tally : local;
@@ -238,7 +237,8 @@ const ColumnTally& tallyColumns(const octomap::OcTree& V, const KeyBox& band, in
       }
       c->tally = std::move(t);
     }
-    // The changed columns, counted again from scratch.
+    // The changed columns, counted again from scratch (none when the
+    // changes lie outside the band and the band above).
     KeyBox redo = c->changed;
     for (int a = 0; a < 3; ++a)
     {
@@ -268,7 +268,6 @@ const ColumnTally& tallyColumns(const octomap::OcTree& V, const KeyBox& band, in
   c->lo_occ = lo_occ;
   c->changed = KeyBox{};
   c->all_changed = false;
-  c->valid = true;
   return c->tally;
 }
 

@@ -29,7 +29,6 @@ class RadixHeap
   explicit RadixHeap(double floor = 0.0) : last_(bits(floor)) {}
 
   bool empty() const { return size_ == 0; }
-  std::size_t size() const { return size_; }
 
   void push(double key, const Value& v)
   {

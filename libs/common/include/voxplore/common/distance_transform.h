@@ -1,5 +1,7 @@
-/* voxplore — exact Euclidean distance transform (Felzenszwalb & Huttenlocher,
- * "Distance Transforms of Sampled Functions", 2012), shared by the
+/* voxplore — exact Euclidean distance transform (columns: Meijster et al.,
+ * "A General Algorithm for Computing Distance Transforms in Linear Time",
+ * 2000, phase 1; rows: Felzenszwalb & Huttenlocher, "Distance Transforms of
+ * Sampled Functions", 2012), shared by the
  * ground truth (libs/sim) and the collision-space and sample-space stages
  * (libs/exploration). */
 #pragma once
