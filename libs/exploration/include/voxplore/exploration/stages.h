@@ -114,7 +114,7 @@ class ProjectionCache
   std::size_t fullTallies() const;
   std::size_t partialTallies() const;
 
-  struct State;  ///< projection.cpp's
+  struct State;  ///< projection_columns.cpp's
 
  private:
   friend GroundGrid projectToGround(const octomap::OcTree&, const mrpt::poses::CPose2D&,
