@@ -156,7 +156,8 @@ void writeExploreSummary(const ExploreSummary& s, const std::string& path)
     << ",\n  \"low_obstacle_replans\": " << s.low_obstacle_replans
     << ",\n  \"path_length_m\": " << s.path_length_m
     << ",\n  \"known_floor_m2\": " << s.known_floor_m2
-    << ",\n  \"known_floor_cut_off_m2\": " << s.known_floor_cut_off_m2 << ",\n  \"frontiers_left_map\": [";
+    << ",\n  \"known_floor_cut_off_m2\": " << s.known_floor_cut_off_m2
+    << ",\n  \"unobservable_m2\": " << s.unobservable_m2 << ",\n  \"frontiers_left_map\": [";
   double left_m = 0;
   for (std::size_t i = 0; i < s.frontiers_left.size(); i++)
   {
@@ -288,6 +289,7 @@ void ExploreRun::finish()
   s_.low_obstacle_replans = status.low_obstacle_replans;
   s_.known_floor_m2 = status.known_floor_m2;
   s_.known_floor_cut_off_m2 = status.known_floor_cut_off_m2;
+  s_.unobservable_m2 = status.unobservable_m2;
   s_.frontiers_left.clear();
   for (const auto& [c, len] : status.frontiers_left) s_.frontiers_left.push_back({c.x(), c.y(), len});
 

@@ -241,8 +241,12 @@ exploration::PlanResult PlanApp::execute(const PlanOptions& o, std::ostream& out
   if (!in.region.empty()) params.projection.region = in.region;
   if (o.ignore_blacklist) in.blacklist.clear();
   if (o.ignore_sensed) in.sensed_obstacles.clear();
+  // plan() judges the pending looks: each call takes its own copy.
+  const auto looksCopy = [&in] { return in.looks ? *in.looks : exploration::FrontierLooks(); };
+  exploration::FrontierLooks looks = looksCopy();
   const auto r = exploration::plan(*V, in.robot, params, in.blacklist, in.step, in.swept,
-                                   in.sensed_obstacles, in.approach, in.low_obstacles);
+                                   in.sensed_obstacles, in.approach, in.low_obstacles, nullptr,
+                                   &looks);
   out << mrpt::format("step %llu: robot (%.3f, %.3f, %.1f deg), %zu blacklisted, %zu sensed, %zu "
                       "low obstacle cells, %zu to approach, %zu swept poses; model %s\n",
                       static_cast<unsigned long long>(in.step + 1), in.robot.x(), in.robot.y(),
@@ -266,6 +270,9 @@ exploration::PlanResult PlanApp::execute(const PlanOptions& o, std::ostream& out
                           fs[i].distance_m, i < r.frontier_rooms.size() ? r.frontier_rooms[i] : -1,
                           skipped.c_str(), r.frontier && r.frontier->id == fs[i].id ? ", chosen" : "");
     }
+    if (r.retired_m2 > 0)
+      out << mrpt::format("open unknown looked at and left unknown (no frontier source): %.2f m^2\n",
+                          r.retired_m2);
     if (r.ground && r.space)
       out << mrpt::format("known floor cut off from the robot: %.1f m^2\n",
                           exploration::cutOffFloorM2(*r.ground, *r.space, *r.frontiers));
@@ -278,8 +285,10 @@ exploration::PlanResult PlanApp::execute(const PlanOptions& o, std::ostream& out
                         r.samples.size());
   printTimes(r.ms, out);
   if (o.repeat > 1) printRepeatedTimes(r, o.repeat, out, [&]() {
+      exploration::FrontierLooks again = looksCopy();
       return exploration::plan(*V, in.robot, params, in.blacklist, in.step, in.swept,
-                               in.sensed_obstacles, in.approach, in.low_obstacles).ms;
+                               in.sensed_obstacles, in.approach, in.low_obstacles, nullptr, &again)
+          .ms;
     });
   for (const auto& p : o.probes) printProbe(r, p, o.probe_radius, out);
   if (!o.png.empty()) exploration::renderPlan(r, in.robot, o.png, {}, o.scale);

@@ -26,6 +26,7 @@ struct Search
   int nx = 0, ny = 0;
   const SpaceState* space = nullptr;
   const uint8_t* open_unknown = nullptr;  ///< CollisionSpace::open_unknown
+  const uint8_t* retired = nullptr;       ///< findFrontiers' `retired`; nullptr: none
   int grow_cells = 0;           ///< CollisionSpace::frontier_grow_m in cells
   std::vector<double> dist;     ///< cells; < 0: not reached
   std::vector<uint8_t> escape;  ///< reached from a non-Free start through non-Free cells only
@@ -107,7 +108,8 @@ void runDijkstra(Search& s, int start)
 bool isOpenUnknown(const Search& s, int x, int y)
 {
   if (x < 0 || y < 0 || x >= s.nx || y >= s.ny) return true;  // off the grid: unknown
-  return s.open_unknown[x + y * s.nx] != 0;
+  const int i = x + y * s.nx;
+  return s.open_unknown[i] != 0 && !(s.retired && s.retired[i]);
 }
 
 /// A known free cell (any space state but Occupied / Unknown) with an open
@@ -374,7 +376,8 @@ std::vector<Frontier> groupFrontiers(const Search& s, const Grid<SpaceState>& g)
 }
 }  // namespace
 
-FrontierMap findFrontiers(const GroundGrid& g, const CollisionSpace& cs)
+FrontierMap findFrontiers(const GroundGrid& g, const CollisionSpace& cs,
+                          const std::vector<uint8_t>* retired)
 {
   const Grid<SpaceState>& grid = cs.state;
   Search s;
@@ -384,6 +387,11 @@ FrontierMap findFrontiers(const GroundGrid& g, const CollisionSpace& cs)
   s.space = grid.data().data();
   ASSERT_EQUAL_(cs.open_unknown.size(), grid.data().size());
   s.open_unknown = cs.open_unknown.data();
+  if (retired && !retired->empty())
+  {
+    ASSERT_EQUAL_(retired->size(), grid.data().size());
+    s.retired = retired->data();
+  }
   s.grow_cells = static_cast<int>(std::ceil(cs.frontier_grow_m / grid.getResolution() - 1e-9));
   s.dist.assign(grid.data().size(), -1.0);
   s.escape.assign(grid.data().size(), 0);

@@ -23,6 +23,13 @@ void writePlanInputs(const std::string& path, const PlanInputs& in, const octoma
   for (const auto& p : in.approach) f << "ap " << p.x() << " " << p.y() << "\n";
   for (const auto& q : in.swept) f << "sw " << q.x() << " " << q.y() << " " << q.z() << "\n";
   for (const auto& p : in.region) f << "rg " << p.x() << " " << p.y() << "\n";
+  if (in.looks)
+  {
+    for (const auto& l : in.looks->records())
+      f << "lk " << l.kx << " " << l.ky << " " << l.n << " " << l.x << " " << l.y << "\n";
+    for (const auto& q : in.looks->pending())
+      f << "ls " << q.x() << " " << q.y() << " " << q.phi() << "\n";
+  }
   f.flush();
   if (!f) throw std::runtime_error("cannot write '" + path + "'");
   if (!V.write(path + ".ot")) throw std::runtime_error("cannot write '" + path + ".ot'");
@@ -33,6 +40,8 @@ PlanInputs readPlanInputs(const std::string& path, std::unique_ptr<octomap::OcTr
   std::ifstream f(path);
   if (!f) throw std::runtime_error("cannot read planning-step inputs '" + path + "'");
   PlanInputs in;
+  auto looks = std::make_shared<FrontierLooks>();
+  bool has_looks = false;
   bool has_robot = false;
   std::string line;
   for (int n = 1; std::getline(f, line); ++n)
@@ -65,16 +74,31 @@ PlanInputs readPlanInputs(const std::string& path, std::unique_ptr<octomap::OcTr
                      : in.region)
           .emplace_back(a, b);
     }
+    else if (tag == "lk")
+    {
+      FrontierLooks::Look l;
+      if (!(ls >> l.kx >> l.ky >> l.n >> l.x >> l.y) || l.n == 0)
+        throw bad("expected 'lk kx ky n x y' with n >= 1");
+      looks->restore(l);
+      has_looks = true;
+    }
+    else if (tag == "ls")
+    {
+      if (!(ls >> a >> b >> c)) throw bad("expected three numbers after 'ls'");
+      looks->addStop(mrpt::poses::CPose2D(a, b, c));
+      has_looks = true;
+    }
     else if (tag == "step")
     {
       if (!(ls >> in.step)) throw bad("expected a step number");
     }
     else
-      throw bad("unknown tag '" + tag + "' (expected robot, step, bl, so, lo, ap, sw or rg)");
+      throw bad("unknown tag '" + tag + "' (expected robot, step, bl, so, lo, ap, sw, rg, lk or ls)");
     std::string rest;
     if (ls >> rest) throw bad("trailing '" + rest + "'");
   }
   if (!has_robot) throw std::runtime_error(path + ": no 'robot x y yaw' line");
+  if (has_looks) in.looks = std::move(looks);
   std::unique_ptr<octomap::AbstractOcTree> t(octomap::AbstractOcTree::read(path + ".ot"));
   auto* tree = dynamic_cast<octomap::OcTree*>(t.get());
   if (!tree) throw std::runtime_error("cannot read the map '" + path + ".ot' (an OctoMap OcTree .ot)");

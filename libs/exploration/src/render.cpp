@@ -14,7 +14,7 @@ const TColor kFree(255, 255, 255), kOccupied(0, 0, 0), kUnknown(220, 40, 40),
     kCollision(150, 150, 150), kMaybe(60, 190, 60), kReachable(120, 160, 255),
     kFrontier(0, 220, 220), kChosen(255, 230, 0), kSampleSpace(170, 90, 200),
     kSample(255, 150, 0), kPath(230, 0, 200), kRobot(140, 0, 0), kTrail(120, 30, 30),
-    kTour(0, 140, 0);
+    kTour(0, 140, 0), kRetired(130, 70, 30);
 
 class Canvas
 {
@@ -108,9 +108,11 @@ void renderPlan(
       const SpaceState s = *st.cellByIndex(cx, cy);
       const bool reach = r.frontiers && *r.frontiers->reachable.cellByIndex(cx, cy);
       const int32_t room = r.rooms ? r.rooms->roomAt({cx, cy}) : -1;
+      const std::size_t i = static_cast<std::size_t>(cx) + static_cast<std::size_t>(cy) * st.getSizeX();
+      const bool retired = s == SpaceState::Unknown && i < r.retired.size() && r.retired[i];
       cv.cell({cx, cy}, reach && s == SpaceState::Free
                             ? (room >= 0 ? roomColour(room, room == r.robot_room) : kReachable)
-                            : spaceColour(s));
+                            : retired ? kRetired : spaceColour(s));
     }
   for (const auto& c : r.sample_space) cv.cell(c, kSampleSpace);
   if (r.frontiers)

@@ -119,6 +119,10 @@ void SamplingParams::loadFromConfigFile(const mrpt::config::CConfigFileBase& c,
   MRPT_LOAD_CONFIG_VAR(enclosed_unknown_m2, double, c, s);
   MRPT_LOAD_CONFIG_VAR(travel_cost_per_m, double, c, s);
   MRPT_LOAD_CONFIG_VAR(frontiers_rated, int, c, s);
+  MRPT_LOAD_CONFIG_VAR(retire_looks, int, c, s);
+  MRPT_LOAD_CONFIG_VAR(look_range_m, double, c, s);
+  MRPT_LOAD_CONFIG_VAR(retire_pocket_m2, double, c, s);
+  MRPT_LOAD_CONFIG_VAR(look_spacing_m, double, c, s);
   using common::requireValid;
   requireValid(th_f2_m >= 0, c, s, "th_f2_m", "must be >= 0");
   requireValid(th_f1_m >= th_f2_m, c, s, "th_f1_m", "need th_f1_m >= th_f2_m");
@@ -133,6 +137,10 @@ void SamplingParams::loadFromConfigFile(const mrpt::config::CConfigFileBase& c,
   requireValid(enclosed_unknown_m2 >= 0, c, s, "enclosed_unknown_m2", "must be >= 0");
   requireValid(travel_cost_per_m >= 0, c, s, "travel_cost_per_m", "must be >= 0");
   requireValid(frontiers_rated >= 1, c, s, "frontiers_rated", "must be >= 1");
+  requireValid(retire_looks >= 0, c, s, "retire_looks", "must be >= 0");
+  requireValid(look_range_m > 0, c, s, "look_range_m", "must be > 0");
+  requireValid(retire_pocket_m2 >= 0, c, s, "retire_pocket_m2", "must be >= 0");
+  requireValid(look_spacing_m >= 0, c, s, "look_spacing_m", "must be >= 0");
 }
 
 void SamplingParams::saveToConfigFile(mrpt::config::CConfigFileBase& c, const std::string& s) const
@@ -152,6 +160,10 @@ void SamplingParams::saveToConfigFile(mrpt::config::CConfigFileBase& c, const st
   MRPT_SAVE_CONFIG_VAR(enclosed_unknown_m2, c, s);
   MRPT_SAVE_CONFIG_VAR(travel_cost_per_m, c, s);
   MRPT_SAVE_CONFIG_VAR(frontiers_rated, c, s);
+  MRPT_SAVE_CONFIG_VAR(retire_looks, c, s);
+  MRPT_SAVE_CONFIG_VAR(look_range_m, c, s);
+  MRPT_SAVE_CONFIG_VAR(retire_pocket_m2, c, s);
+  MRPT_SAVE_CONFIG_VAR(look_spacing_m, c, s);
 }
 
 std::optional<std::size_t> chooseFrontier(const std::vector<Frontier>& frontiers,

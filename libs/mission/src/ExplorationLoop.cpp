@@ -6,7 +6,6 @@
 #include <mrpt/core/bits_math.h>
 #include <mrpt/math/wrap2pi.h>
 #include <mrpt/system/CTicTac.h>
-#include <voxplore/common/config.h>
 #include <voxplore/mission/ExplorationLoop.h>
 #include <voxplore/navigation/StopAndScanDriver.h>
 
@@ -37,70 +36,6 @@ double cutOffFloorM2(const exploration::PlanResult& plan)
 }
 
 }  // namespace
-
-void ExplorationLoopParams::loadFromConfigFile(const mrpt::config::CConfigFileBase& c,
-                                               const std::string& s)
-{
-  MRPT_LOAD_CONFIG_VAR(max_steps, int, c, s);
-  MRPT_LOAD_CONFIG_VAR(max_sim_time_s, double, c, s);
-  MRPT_LOAD_CONFIG_VAR(max_failures_per_target, int, c, s);
-  MRPT_LOAD_CONFIG_VAR(max_plans_per_target, int, c, s);
-  MRPT_LOAD_CONFIG_VAR(min_progress_m, double, c, s);
-  MRPT_LOAD_CONFIG_VAR(approach_replanned, bool, c, s);
-  if (const std::string v = c.read_string(s, "low_obstacle_replan", ""); !v.empty())
-  {
-    const std::optional<bool> b = common::parseBoolWord(v);
-    common::requireValid(v == "auto" || b.has_value(), c, s, "low_obstacle_replan",
-                         "expected auto, true or false");
-    low_obstacle_replan = !b ? Switch::Auto : *b ? Switch::On : Switch::Off;
-  }
-  MRPT_LOAD_CONFIG_VAR(stagnation_new_frontier_guard, bool, c, s);
-  MRPT_LOAD_CONFIG_VAR(stagnation_steps, int, c, s);
-  MRPT_LOAD_CONFIG_VAR(stagnation_min_gain_m2, double, c, s);
-  MRPT_LOAD_CONFIG_VAR(stagnation_path_m, double, c, s);
-  MRPT_LOAD_CONFIG_VAR(stagnation_path_min_gain_m2, double, c, s);
-  MRPT_LOAD_CONFIG_VAR(cut_off_replan_m2, double, c, s);
-  common::requireValid(cut_off_replan_m2 >= 0, c, s, "cut_off_replan_m2", "must be >= 0");
-  common::requireValid(stagnation_steps >= 0, c, s, "stagnation_steps", "must be >= 0");
-  common::requireValid(stagnation_min_gain_m2 >= 0, c, s, "stagnation_min_gain_m2", "must be >= 0");
-  common::requireValid(stagnation_path_m >= 0, c, s, "stagnation_path_m", "must be >= 0");
-  common::requireValid(stagnation_path_min_gain_m2 >= 0, c, s, "stagnation_path_min_gain_m2",
-                       "must be >= 0");
-  common::requireValid(max_steps >= 0, c, s, "max_steps", "must be >= 0");
-  common::requireValid(max_sim_time_s > 0, c, s, "max_sim_time_s", "must be > 0");
-  common::requireValid(max_plans_per_target >= 0, c, s, "max_plans_per_target", "must be >= 0");
-  common::requireValid(min_progress_m >= 0, c, s, "min_progress_m", "must be >= 0");
-  common::requireValid(max_failures_per_target >= 1, c, s, "max_failures_per_target",
-                       "must be >= 1");
-}
-
-bool ExplorationLoopParams::lowObstacleReplanInForce(const exploration::CollisionParams& col,
-                                                     double l_res_m) const
-{
-  if (low_obstacle_replan != Switch::Auto) return low_obstacle_replan == Switch::On;
-  return col.usesFootprint(l_res_m) && !col.footprintTrimmed(l_res_m);
-}
-
-void ExplorationLoopParams::saveToConfigFile(mrpt::config::CConfigFileBase& c,
-                                             const std::string& s) const
-{
-  MRPT_SAVE_CONFIG_VAR(max_steps, c, s);
-  MRPT_SAVE_CONFIG_VAR(max_sim_time_s, c, s);
-  MRPT_SAVE_CONFIG_VAR(max_failures_per_target, c, s);
-  MRPT_SAVE_CONFIG_VAR(max_plans_per_target, c, s);
-  MRPT_SAVE_CONFIG_VAR(min_progress_m, c, s);
-  MRPT_SAVE_CONFIG_VAR(approach_replanned, c, s);
-  c.write(s, "low_obstacle_replan",
-          low_obstacle_replan == Switch::Auto ? "auto"
-          : low_obstacle_replan == Switch::On ? "true"
-                                              : "false");
-  MRPT_SAVE_CONFIG_VAR(stagnation_new_frontier_guard, c, s);
-  MRPT_SAVE_CONFIG_VAR(stagnation_steps, c, s);
-  MRPT_SAVE_CONFIG_VAR(stagnation_min_gain_m2, c, s);
-  MRPT_SAVE_CONFIG_VAR(stagnation_path_m, c, s);
-  MRPT_SAVE_CONFIG_VAR(stagnation_path_min_gain_m2, c, s);
-  MRPT_SAVE_CONFIG_VAR(cut_off_replan_m2, c, s);
-}
 
 /// The robot as the navigator sees it: the user's robot, with pose() the
 /// loop's estimate (SLAM pose at the last stop + odometry since) and every
@@ -233,11 +168,11 @@ void ExplorationLoop::loop()
     if (listener_)
       listener_->onPlanInputs(exploration::PlanInputs{slam_.currentPose(), step, blacklist_,
                                                       sensed_obstacles_, low, approach, swept_,
-                                                      planner_.projection.region},
+                                                      planner_.projection.region, looks_},
                               slam_.octomap().tree());
     auto plan = exploration::plan(slam_.octomap().tree(), slam_.currentPose(), planner_,
                                   blacklist_, step, swept_, sensed_obstacles_, approach, low,
-                                  projectionCache());
+                                  projectionCache(), looks_.get());
     if (!plan.ok() && slam_.octomapRebuildPending() > 0)
     {
       // The OctoMap after a loop closure is still being rebuilt over the
@@ -245,7 +180,8 @@ void ExplorationLoop::loop()
       slam_.finishMapRebuild();
       low = slam_.octomap().lowObstacles();
       plan = exploration::plan(slam_.octomap().tree(), slam_.currentPose(), planner_, blacklist_,
-                               step, swept_, sensed_obstacles_, approach, low, projectionCache());
+                               step, swept_, sensed_obstacles_, approach, low, projectionCache(),
+                               looks_.get());
     }
     setLowAtPlan(low);
     double cut_off_m2 = 0;  // known floor cut off from the robot, when the planner found nothing
@@ -313,6 +249,10 @@ void ExplorationLoop::scanAndIntegrate()
                               : std::string()));
   }
   addSwept(rep.pose);
+  // A stop whose scan is in the map, every camera used, looked at what it saw.
+  if (rep.integrated && std::none_of(rep.camera_issues.begin(), rep.camera_issues.end(),
+                                     [](const mapping::CameraIssue& c) { return c.skipped; }))
+    looks_->addStop(rep.pose);
   if (listener_) listener_->onStop(scan, rep);
 }
 

@@ -36,7 +36,7 @@ void ExplorationLoop::replanShutIn(exploration::PlanResult& plan, double cut_off
   const auto planRelaxed = [&] {
     return exploration::plan(slam_.octomap().tree(), slam_.currentPose(), relaxed, blacklist_,
                              step, swept_, {}, approach, slam_.octomap().lowObstacles(),
-                             projectionCache());
+                             projectionCache(), looks_.get());
   };
   auto again = planRelaxed();
   message(mrpt::format("shut in: %.0f m^2 of known floor cut off from the robot (%s); planned "
@@ -83,6 +83,7 @@ void ExplorationLoop::noteFrontiers(const exploration::PlanResult& plan)
         return (c - f.center).norm() <= radius;
       });
     }
+  status_.unobservable_m2 = plan.retired_m2;
   if (!plan.ground) return;
   status_.known_floor_m2 = knownFloorM2(*plan.ground);
   known_floor_.push_back(status_.known_floor_m2);

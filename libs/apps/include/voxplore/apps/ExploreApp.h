@@ -75,6 +75,7 @@ struct ExploreSummary
   std::size_t low_obstacle_replans = 0;  ///< drives ended by a low obstacle seen on the way
   std::size_t new_frontiers = 0;  ///< frontiers of the last step not near one planned before
   double known_floor_m2 = 0;       ///< free floor known in G at the end [m^2]
+  double unobservable_m2 = 0;  ///< open unknown looked at and left unknown at the end ([sampling] retire_looks) [m^2]
   double known_floor_cut_off_m2 = 0;  ///< ... of it, cut off from the robot by the planner's collision space [m^2]
   /// Frontiers left at the end (map frame): centre x, y and length [m].
   std::vector<std::array<double, 3>> frontiers_left;

@@ -5,6 +5,7 @@
 #include <mrpt/config/CConfigFileBase.h>
 #include <mrpt/poses/CPose2D.h>
 #include <voxplore/exploration/footprint.h>
+#include <voxplore/exploration/looks.h>
 #include <voxplore/exploration/path.h>
 #include <voxplore/exploration/rooms.h>
 #include <voxplore/exploration/scan_rating.h>
@@ -124,6 +125,11 @@ struct PlanResult
   /// frontier_order = tour (next-best-view): the tour over the tier the
   /// chosen frontier was taken from (empty otherwise).
   FrontierTour tour;
+  /// Row-major over G: 1 for the unknown cells taken from the frontiers as
+  /// looked at and left unknown (plan()'s `looks`, SamplingParams::
+  /// retire_looks); empty: none. retired_m2: the open unknown among them [m^2].
+  std::vector<uint8_t> retired;
+  double retired_m2 = 0;
 
   bool ok() const { return done == DoneReason::None; }
 };
@@ -154,16 +160,21 @@ struct PlanResult
 ///        omniRob nbv 0.968 -> 0.906, a room behind a 0.8 m opening).
 /// @param projection_cache the projection's columns from the last step,
 ///        told where V changed since (projectToGround); nullptr: none.
+/// @param looks the unknown cells looked at so far; its stops added since
+///        the last plan are judged on this step's G first, then the cells
+///        looked at SamplingParams::retire_looks times are no frontier
+///        source (findFrontiers' `retired`); nullptr: none.
 PlanResult plan(
     const octomap::OcTree& V, const mrpt::poses::CPose2D& robot, const PlannerParams& params,
     const std::vector<Eigen::Vector2d>& blacklist = {}, uint64_t step = 0,
     const SweptPath& swept = {}, const std::vector<Eigen::Vector2d>& sensed_obstacles = {},
     const std::vector<Eigen::Vector2d>& approach = {},
     const std::vector<Eigen::Vector2d>& low_obstacles = {},
-    ProjectionCache* projection_cache = nullptr);
+    ProjectionCache* projection_cache = nullptr, FrontierLooks* looks = nullptr);
 
 /// @brief PNG of G with its layers in the thesis' colours (fig. 4.12): free
-///        white, occupied black, unknown red, collision grey, maybe-collision
+///        white, occupied black, unknown red (brown where retired as looked
+///        at and left unknown), collision grey, maybe-collision
 ///        green, frontiers cyan, chosen frontier yellow,
 ///        reachable blue (each room its own shade of blue or green, the
 ///        robot's darker), sample space purple, samples orange, chosen pose and path magenta,

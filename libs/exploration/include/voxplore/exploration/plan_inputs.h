@@ -3,6 +3,7 @@
 #pragma once
 
 #include <mrpt/poses/CPose2D.h>
+#include <voxplore/exploration/looks.h>
 #include <voxplore/exploration/stages.h>
 
 #include <Eigen/Core>
@@ -33,10 +34,14 @@ struct PlanInputs
   /// The exploration region in force (ProjectionParams::region; set from the
   /// world after params.ini is written) [m]; empty: none.
   std::vector<Eigen::Vector2d> region;
+  /// The unknown cells looked at so far and the stops not judged yet (plan()'s
+  /// `looks`); null: none.
+  std::shared_ptr<const FrontierLooks> looks;
 };
 
 /// @brief Writes `path` (text: one "robot x y yaw" line, "step N", then one
-///        line per point: "bl x y", "so x y", "lo x y", "ap x y", "sw x y yaw", "rg x y"; map
+///        line per point: "bl x y", "so x y", "lo x y", "ap x y", "sw x y yaw", "rg x y",
+///        and the looks: "lk kx ky n x y" per record, "ls x y yaw" per stop not judged; map
 ///        frame, metres and radians, full precision) and `path`.ot (V as
 ///        OctoMap's full .ot, log-odds kept: map.bt is thresholded and does
 ///        not plan the same).

@@ -197,6 +197,9 @@ struct ExplorationStatus
   /// At the end (the planner found nothing to do): the known free floor the
   /// robot cannot get to (exploration::cutOffFloorM2) [m^2]
   double known_floor_cut_off_m2 = 0;
+  /// Open unknown of the last planning step that the stops looked at and
+  /// left unknown, no frontier source ([sampling] retire_looks) [m^2]
+  double unobservable_m2 = 0;
   /// The frontiers of the last planning step (map frame): centre and length
   /// [m]; what is left unexplored when the run ends.
   std::vector<std::pair<Eigen::Vector2d, double>> frontiers_left;
@@ -335,6 +338,8 @@ class ExplorationLoop
   mapping::SlamIcp slam_;
   exploration::ProjectionCache projection_cache_;
   mapping::MapRevision projected_at_;  ///< the map's revision projection_cache_ last saw
+  /// The unknown cells the stops looked at (shared with the plan inputs).
+  std::shared_ptr<exploration::FrontierLooks> looks_ = std::make_shared<exploration::FrontierLooks>();
   std::unique_ptr<PosedRobot> posed_;
   std::unique_ptr<navigation::StopAndScanDriver> driver_;
   mrpt::Clock::time_point t_start_;

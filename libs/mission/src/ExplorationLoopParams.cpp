@@ -1,0 +1,75 @@
+// The exploration loop's ini section [explore] (ExplorationLoopParams): its
+// keys, their checks and auto values. Split from ExplorationLoop.cpp.
+#include <voxplore/common/config.h>
+#include <voxplore/mission/ExplorationLoop.h>
+
+#include <optional>
+#include <string>
+
+namespace voxplore::mission
+{
+void ExplorationLoopParams::loadFromConfigFile(const mrpt::config::CConfigFileBase& c,
+                                               const std::string& s)
+{
+  MRPT_LOAD_CONFIG_VAR(max_steps, int, c, s);
+  MRPT_LOAD_CONFIG_VAR(max_sim_time_s, double, c, s);
+  MRPT_LOAD_CONFIG_VAR(max_failures_per_target, int, c, s);
+  MRPT_LOAD_CONFIG_VAR(max_plans_per_target, int, c, s);
+  MRPT_LOAD_CONFIG_VAR(min_progress_m, double, c, s);
+  MRPT_LOAD_CONFIG_VAR(approach_replanned, bool, c, s);
+  if (const std::string v = c.read_string(s, "low_obstacle_replan", ""); !v.empty())
+  {
+    const std::optional<bool> b = common::parseBoolWord(v);
+    common::requireValid(v == "auto" || b.has_value(), c, s, "low_obstacle_replan",
+                         "expected auto, true or false");
+    low_obstacle_replan = !b ? Switch::Auto : *b ? Switch::On : Switch::Off;
+  }
+  MRPT_LOAD_CONFIG_VAR(stagnation_new_frontier_guard, bool, c, s);
+  MRPT_LOAD_CONFIG_VAR(stagnation_steps, int, c, s);
+  MRPT_LOAD_CONFIG_VAR(stagnation_min_gain_m2, double, c, s);
+  MRPT_LOAD_CONFIG_VAR(stagnation_path_m, double, c, s);
+  MRPT_LOAD_CONFIG_VAR(stagnation_path_min_gain_m2, double, c, s);
+  MRPT_LOAD_CONFIG_VAR(cut_off_replan_m2, double, c, s);
+  common::requireValid(cut_off_replan_m2 >= 0, c, s, "cut_off_replan_m2", "must be >= 0");
+  common::requireValid(stagnation_steps >= 0, c, s, "stagnation_steps", "must be >= 0");
+  common::requireValid(stagnation_min_gain_m2 >= 0, c, s, "stagnation_min_gain_m2", "must be >= 0");
+  common::requireValid(stagnation_path_m >= 0, c, s, "stagnation_path_m", "must be >= 0");
+  common::requireValid(stagnation_path_min_gain_m2 >= 0, c, s, "stagnation_path_min_gain_m2",
+                       "must be >= 0");
+  common::requireValid(max_steps >= 0, c, s, "max_steps", "must be >= 0");
+  common::requireValid(max_sim_time_s > 0, c, s, "max_sim_time_s", "must be > 0");
+  common::requireValid(max_plans_per_target >= 0, c, s, "max_plans_per_target", "must be >= 0");
+  common::requireValid(min_progress_m >= 0, c, s, "min_progress_m", "must be >= 0");
+  common::requireValid(max_failures_per_target >= 1, c, s, "max_failures_per_target",
+                       "must be >= 1");
+}
+
+bool ExplorationLoopParams::lowObstacleReplanInForce(const exploration::CollisionParams& col,
+                                                     double l_res_m) const
+{
+  if (low_obstacle_replan != Switch::Auto) return low_obstacle_replan == Switch::On;
+  return col.usesFootprint(l_res_m) && !col.footprintTrimmed(l_res_m);
+}
+
+void ExplorationLoopParams::saveToConfigFile(mrpt::config::CConfigFileBase& c,
+                                             const std::string& s) const
+{
+  MRPT_SAVE_CONFIG_VAR(max_steps, c, s);
+  MRPT_SAVE_CONFIG_VAR(max_sim_time_s, c, s);
+  MRPT_SAVE_CONFIG_VAR(max_failures_per_target, c, s);
+  MRPT_SAVE_CONFIG_VAR(max_plans_per_target, c, s);
+  MRPT_SAVE_CONFIG_VAR(min_progress_m, c, s);
+  MRPT_SAVE_CONFIG_VAR(approach_replanned, c, s);
+  c.write(s, "low_obstacle_replan",
+          low_obstacle_replan == Switch::Auto ? "auto"
+          : low_obstacle_replan == Switch::On ? "true"
+                                              : "false");
+  MRPT_SAVE_CONFIG_VAR(stagnation_new_frontier_guard, c, s);
+  MRPT_SAVE_CONFIG_VAR(stagnation_steps, c, s);
+  MRPT_SAVE_CONFIG_VAR(stagnation_min_gain_m2, c, s);
+  MRPT_SAVE_CONFIG_VAR(stagnation_path_m, c, s);
+  MRPT_SAVE_CONFIG_VAR(stagnation_path_min_gain_m2, c, s);
+  MRPT_SAVE_CONFIG_VAR(cut_off_replan_m2, c, s);
+}
+
+}  // namespace voxplore::mission
