@@ -108,8 +108,7 @@ void runDijkstra(Search& s, int start)
 bool isOpenUnknown(const Search& s, int x, int y)
 {
   if (x < 0 || y < 0 || x >= s.nx || y >= s.ny) return true;  // off the grid: unknown
-  const int i = x + y * s.nx;
-  return s.open_unknown[i] != 0 && !(s.retired && s.retired[i]);
+  return s.open_unknown[x + y * s.nx] != 0 && !(s.retired && s.retired[x + y * s.nx]);
 }
 
 /// A known free cell (any space state but Occupied / Unknown) with an open
@@ -387,11 +386,8 @@ FrontierMap findFrontiers(const GroundGrid& g, const CollisionSpace& cs,
   s.space = grid.data().data();
   ASSERT_EQUAL_(cs.open_unknown.size(), grid.data().size());
   s.open_unknown = cs.open_unknown.data();
-  if (retired && !retired->empty())
-  {
-    ASSERT_EQUAL_(retired->size(), grid.data().size());
-    s.retired = retired->data();
-  }
+  if (retired && !retired->empty()) ASSERT_EQUAL_(retired->size(), grid.data().size());
+  s.retired = retired && !retired->empty() ? retired->data() : nullptr;
   s.grow_cells = static_cast<int>(std::ceil(cs.frontier_grow_m / grid.getResolution() - 1e-9));
   s.dist.assign(grid.data().size(), -1.0);
   s.escape.assign(grid.data().size(), 0);
