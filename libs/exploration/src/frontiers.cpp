@@ -263,47 +263,17 @@ void measureOpenings(const Search& s, std::vector<Frontier>& frontiers, int grow
     frontiers[k].opening_m = static_cast<double>(count[k]) * res;
 }
 
-/// Frontier::unknown_m2 of every frontier: the open unknown cells are
-/// labelled in 4-connected pockets (one pass over the grid), and each
-/// frontier sums the area of the distinct pockets next to its cells; a pocket
-/// that touches the grid's border is unbounded.
+/// Frontier::unknown_m2 of every frontier: the sum of the areas of the
+/// distinct pockets of open unknown (openUnknownPockets) next to its cells; a
+/// pocket that touches the grid's border is unbounded.
 void measureUnknownBehind(const Search& s, std::vector<Frontier>& frontiers, double res)
 {
-  const std::size_t n = s.dist.size();
-  std::vector<int32_t> pocket(n, -1);
+  const UnknownPockets pockets = openUnknownPockets(s.open_unknown, s.nx, s.ny);
+  const std::vector<int32_t>& pocket = pockets.label;
   std::vector<double> area;  // per pocket [m^2]; infinity: touches the border
-  std::vector<int> stack;
-  for (std::size_t seed = 0; seed < n; ++seed)
-  {
-    if (!s.open_unknown[seed] || pocket[seed] >= 0) continue;
-    const auto id = static_cast<int32_t>(area.size());
-    std::size_t cells = 0;
-    bool border = false;
-    pocket[seed] = id;
-    stack.assign(1, static_cast<int>(seed));
-    while (!stack.empty())
-    {
-      const int i = stack.back();
-      stack.pop_back();
-      ++cells;
-      const int cx = i % s.nx, cy = i / s.nx;
-      for (int k = 0; k < 4; ++k)
-      {
-        const int x = cx + kDx[k], y = cy + kDy[k];
-        if (x < 0 || y < 0 || x >= s.nx || y >= s.ny)
-        {
-          border = true;
-          continue;
-        }
-        const int j = x + y * s.nx;
-        if (!s.open_unknown[j] || pocket[j] >= 0) continue;
-        pocket[j] = id;
-        stack.push_back(j);
-      }
-    }
-    area.push_back(border ? std::numeric_limits<double>::infinity()
-                          : static_cast<double>(cells) * res * res);
-  }
+  for (const int64_t cells : pockets.cells)
+    area.push_back(cells < 0 ? std::numeric_limits<double>::infinity()
+                             : static_cast<double>(cells) * res * res);
   std::vector<int32_t> seen;
   for (Frontier& f : frontiers)
   {

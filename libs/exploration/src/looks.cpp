@@ -8,6 +8,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <optional>
 
 namespace voxplore::exploration
 {
@@ -86,61 +87,6 @@ std::vector<int> firstUnknownCells(const Grid<GroundState>& st, double x, double
   return out;
 }
 
-/// Whether an open unknown cell's 4-connected pocket of open unknown holds
-/// fewer than `max` cells and stays off the grid's border; each pocket is
-/// flooded once, and no further than `max` cells (then it is big).
-class PocketSizer
-{
- public:
-  PocketSizer(int nx, int ny, const std::vector<uint8_t>* open_unknown, std::size_t max)
-      : nx_(nx), ny_(ny), open_(open_unknown), max_(max)
-  {
-  }
-  bool small(std::size_t i)
-  {
-    if (!open_ || !(*open_)[i]) return false;
-    if (label_.empty()) label_.assign(open_->size(), kUnseen);
-    if (label_[i] == kUnseen) flood(i);
-    return label_[i] == kSmall;
-  }
-
- private:
-  static constexpr uint8_t kUnseen = 0, kSmall = 1, kBig = 2, kOpen = 3;
-  void flood(std::size_t seed)
-  {
-    std::vector<std::size_t> cells{seed};
-    label_[seed] = kOpen;
-    bool big = false;
-    for (std::size_t k = 0; k < cells.size() && !big; ++k)
-    {
-      const int cx = static_cast<int>(cells[k] % nx_), cy = static_cast<int>(cells[k] / nx_);
-      if (cx == 0 || cy == 0 || cx == nx_ - 1 || cy == ny_ - 1)
-      {
-        big = true;  // open to the unknown beyond the grid
-        break;
-      }
-      const std::size_t row = static_cast<std::size_t>(nx_);
-      for (const std::size_t j : {cells[k] - 1, cells[k] + 1, cells[k] - row, cells[k] + row})
-      {
-        if (!(*open_)[j] || label_[j] == kOpen) continue;
-        if (label_[j] != kUnseen)
-        {
-          big = big || label_[j] == kBig;
-          continue;
-        }
-        label_[j] = kOpen;
-        cells.push_back(j);
-      }
-      if (cells.size() >= max_) big = true;
-    }
-    for (const std::size_t c : cells) label_[c] = big ? kBig : kSmall;
-  }
-  int nx_, ny_;
-  const std::vector<uint8_t>* open_;
-  std::size_t max_;
-  std::vector<uint8_t> label_;
-};
-
 /// Does every height of `zs` over (x, y) lie in one of the cameras' views?
 bool inView(const std::vector<mrpt::poses::CPose3D>& cams, double x, double y,
             const double (&zs)[3], double tan_h, double tan_v, double max_range)
@@ -214,7 +160,14 @@ std::vector<uint8_t> FrontierLooks::retiredMask(const Grid<GroundState>& st, int
                                      ? static_cast<std::size_t>(pocket_m2 / (res * res))
                                      : 0;
   if (open_unknown) ASSERT_EQUAL_(open_unknown->size(), st.data().size());
-  PocketSizer pockets(nx, ny, open_unknown, max_pocket);
+  std::optional<UnknownPockets> pockets;  // labelled when first needed
+  const auto small = [&](std::size_t i)
+  {
+    if (!(*open_unknown)[i]) return false;
+    if (!pockets) pockets = openUnknownPockets(open_unknown->data(), nx, ny);
+    const int64_t cells = pockets->cells[static_cast<std::size_t>(pockets->label[i])];
+    return cells >= 0 && static_cast<std::size_t>(cells) < max_pocket;
+  };
   for (const auto& [key, l] : looks_)
   {
     if (l.n < static_cast<uint32_t>(looks)) continue;
@@ -222,7 +175,7 @@ std::vector<uint8_t> FrontierLooks::retiredMask(const Grid<GroundState>& st, int
     if (cx < 0 || cy < 0 || cx >= nx || cy >= ny) continue;
     const std::size_t i = static_cast<std::size_t>(cx) + static_cast<std::size_t>(cy) * nx;
     if (st.data()[i] != GroundState::Unknown) continue;
-    if (max_pocket > 0 && !pockets.small(i)) continue;
+    if (max_pocket > 0 && !small(i)) continue;
     if (mask.empty()) mask.assign(st.data().size(), 0);
     mask[i] = 1;
   }

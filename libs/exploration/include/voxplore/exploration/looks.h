@@ -28,7 +28,8 @@ struct ScanRatingParams;
 ///        SamplingParams::look_range_m, and every height of the projection's
 ///        band over the cell's centre lies inside a camera's field of view
 ///        (ScanRatingParams' mounts, hfov, vfov; 2 deg inside the sides,
-///        0.5 deg inside the top and bottom) and range. Looks count from stops at least look_spacing_m apart.
+///        0.5 deg inside the top and bottom) and range. Looks count from
+///        stops at least look_spacing_m apart.
 ///        Cells are keyed in the map frame, so grids of different extents
 ///        share them.
 class FrontierLooks
@@ -66,12 +67,6 @@ class FrontierLooks
   const std::vector<mrpt::poses::CPose2D>& pending() const { return pending_; }
   /// @brief Adds a record read back (records() of another instance).
   void restore(const Look& l);
-
-  void clear()
-  {
-    looks_.clear();
-    pending_.clear();
-  }
 
  private:
   std::unordered_map<uint64_t, Look> looks_;

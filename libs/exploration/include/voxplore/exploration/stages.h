@@ -222,6 +222,17 @@ struct FrontierMap
   std::vector<Frontier> frontiers;  ///< sorted by distance_m, then size
 };
 
+/// @brief The 4-connected pockets of open unknown (CollisionSpace::
+///        open_unknown, row-major, nx x ny): a pocket per cell (-1: not open
+///        unknown) and each pocket's cells, -1 for a pocket touching the
+///        grid's border (open to the unknown beyond it).
+struct UnknownPockets
+{
+  std::vector<int32_t> label;
+  std::vector<int64_t> cells;
+};
+UnknownPockets openUnknownPockets(const uint8_t* open_unknown, int nx, int ny);
+
 /// @brief thesis 4.5.3: BFS from the robot over Free cells (reachable space),
 ///        continued one band into MaybeCollision cells; frontier cells are
 ///        reached Free/MaybeCollision cells with an open Unknown 4-neighbour
