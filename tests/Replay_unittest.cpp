@@ -18,6 +18,8 @@
 #include <sys/wait.h>
 
 #include <algorithm>
+#include <array>
+#include <cmath>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
@@ -213,9 +215,40 @@ TEST(Replay, LongCorridorDegeneracyKeepsOdometryAlongTheAxis)
             << " m\n";
   EXPECT_GT(on.degenerate, on.stops / 3);
   EXPECT_EQ(off.degenerate, 0u);
-  EXPECT_LT(on.ate_rmse_m, 0.05);
   EXPECT_LT(on.ate_rmse_m, 0.5 * off.ate_rmse_m);
   EXPECT_LT(on.final_xy_error_m, off.final_xy_error_m);
+
+  // What the check governs, apart from the odometry noise draw: across the
+  // axis ICP holds the pose (to centimetres, where odometry drifts decimetres);
+  // along it the estimate follows odometry and inherits its drift, which is
+  // the noise draw's (seeds 1-10 of this tour: 3-13 cm at the far end; the
+  // estimate at most 3.6 cm worse than odometry, ICP at the ends), so no
+  // absolute bound is put on it. Off, ICP shortens the corridor by metres.
+  const auto gt = common::readTum(sim.out_dir + "/trajectory_gt.tum");
+  const auto est = common::readTum(tmp("corridor_on") + "/trajectory_est.tum");
+  const auto odo_traj = common::readTum(tmp("corridor_odo") + "/trajectory_est.tum");
+  ASSERT_EQ(gt.size(), on.stops);
+  ASSERT_EQ(est.size(), gt.size());
+  ASSERT_EQ(odo_traj.size(), gt.size());
+  // offsets from the first stop; the corridor runs along x from a yaw-0 start
+  const auto offset = [](const std::vector<common::StampedPose>& t, std::size_t i) {
+    return std::array<double, 2>{t[i].pose.x() - t[0].pose.x(), t[i].pose.y() - t[0].pose.y()};
+  };
+  double across_max = 0, odo_across_max = 0, along_excess_max = 0;
+  for (std::size_t i = 0; i < gt.size(); ++i)
+  {
+    const auto g = offset(gt, i), e = offset(est, i), d = offset(odo_traj, i);
+    across_max = std::max(across_max, std::abs(e[1] - g[1]));
+    odo_across_max = std::max(odo_across_max, std::abs(d[1] - g[1]));
+    along_excess_max = std::max(along_excess_max, std::abs(e[0] - g[0]) - std::abs(d[0] - g[0]));
+  }
+  std::cout << "[ corridor ] across the axis: max error " << across_max << " m (odometry "
+            << odo_across_max << " m); along it, at most " << along_excess_max
+            << " m worse than odometry\n";
+  EXPECT_LT(across_max, 0.05);
+  EXPECT_LT(across_max, 0.2 * odo_across_max);
+  EXPECT_LT(along_excess_max, 0.06);
+  EXPECT_LT(on.ate_rmse_m, 0.25 * odo.ate_rmse_m);
 }
 
 // ===================================================== issue 14: no crash on any rawlog
