@@ -530,6 +530,46 @@ TEST(SlamIcp, ALargeCorrectionAfterATurnPassesTheOdometryGate)
   }
 }
 
+TEST(PlanarIcp, AGatedCorrectionNeedsALargeCloud)
+{
+  // The DLR room seen from the start, registered from a prediction 0.6 m
+  // off (beyond max_correction_xy_m, within a 1 m odometry gate): the whole
+  // cloud passes the gate; every 40th point of it (a few hundred, as a stop
+  // in willowgarage's open areas sees) does not, whatever it pairs.
+  RoomFixture f;
+  const auto c = cloudAt(f.caster, f.world.start, true);
+  mapping::Metaview m;
+  m.insert(c.points, CPose2D());
+  mrpt::maps::CSimplePointsMap few;
+  for (std::size_t i = 0; i < c.points.size(); i += 40)
+  {
+    float x, y, z;
+    c.points.getPoint(i, x, y, z);
+    few.insertPoint(x, y, z);
+  }
+  mapping::IcpParams p;
+  ASSERT_GT(static_cast<double>(c.points.size()), p.large_correction_min_points);
+  ASSERT_LT(static_cast<double>(few.size()), p.large_correction_min_points);
+  const CPose2D predicted(0.45, 0.4, 0.0);  // 0.6 m off the truth (the origin)
+  const double gate_m = 1.0, odometry_std = 0.25;
+  const auto all = mapping::alignPlanar(m.footprint(), c.points, predicted, p, &m.footprintViewpoints(),
+                                        odometry_std, nullptr, gate_m);
+  const auto part = mapping::alignPlanar(m.footprint(), few, predicted, p, &m.footprintViewpoints(),
+                                         odometry_std, nullptr, gate_m);
+  std::cout << "[ gate ] " << c.points.size() << " points: " << (all.accepted ? "accepted" : all.reason)
+            << "; " << few.size() << " points: " << (part.accepted ? "accepted" : part.reason) << "\n";
+  ASSERT_TRUE(all.accepted) << all.reason;
+  EXPECT_LT(std::hypot(all.pose.x(), all.pose.y()), 0.03);
+  EXPECT_FALSE(part.accepted);
+  EXPECT_TRUE(part.over_correction_limit);
+  EXPECT_NE(part.reason.find("points <"), std::string::npos) << part.reason;
+  // 0: any cloud passes the gate, as before.
+  p.large_correction_min_points = 0;
+  const auto any = mapping::alignPlanar(m.footprint(), few, predicted, p, &m.footprintViewpoints(),
+                                        odometry_std, nullptr, gate_m);
+  EXPECT_TRUE(any.accepted) << any.reason;
+}
+
 TEST(PlanarIcp, AStopSeeingMostlyNewSpaceIsTakenWhenItAgreesWithOdometry)
 {
   // The map holds only what lies within 100 deg of the robot's heading in the

@@ -44,6 +44,7 @@ void IcpParams::loadFromConfigFile(const mrpt::config::CConfigFileBase& c, const
   MRPT_LOAD_CONFIG_VAR(confirm_xy_m, double, c, s);
   MRPT_LOAD_CONFIG_VAR_DEGREES(confirm_yaw, c, s);
   MRPT_LOAD_CONFIG_VAR(confirm_min_goodness, double, c, s);
+  MRPT_LOAD_CONFIG_VAR(large_correction_min_points, int, c, s);
   MRPT_LOAD_CONFIG_VAR(degeneracy_check, bool, c, s);
   MRPT_LOAD_CONFIG_VAR(degeneracy_ratio, double, c, s);
   MRPT_LOAD_CONFIG_VAR(degenerate_fusion, bool, c, s);
@@ -92,6 +93,7 @@ void IcpParams::loadFromConfigFile(const mrpt::config::CConfigFileBase& c, const
   requireValid(confirm_yaw > 0, c, s, "confirm_yaw", "must be positive");
   requireValid(confirm_min_goodness >= 0 && confirm_min_goodness <= 1, c, s, "confirm_min_goodness",
                "must be in [0, 1]");
+  requireValid(large_correction_min_points >= 0, c, s, "large_correction_min_points", "must be >= 0");
   requireValid(odometry_prior_pairs >= 0, c, s, "odometry_prior_pairs", "must be >= 0");
   requireValid(odometry_prior_step_m > 0, c, s, "odometry_prior_step_m", "must be > 0");
   requireValid(degeneracy_ratio >= 0 && degeneracy_ratio < 1, c, s, "degeneracy_ratio",
@@ -146,6 +148,7 @@ void IcpParams::saveToConfigFile(mrpt::config::CConfigFileBase& c, const std::st
   MRPT_SAVE_CONFIG_VAR(confirm_xy_m, c, s);
   MRPT_SAVE_CONFIG_VAR_DEGREES(confirm_yaw, c, s);
   MRPT_SAVE_CONFIG_VAR(confirm_min_goodness, c, s);
+  MRPT_SAVE_CONFIG_VAR(large_correction_min_points, c, s);
   MRPT_SAVE_CONFIG_VAR(degeneracy_check, c, s);
   MRPT_SAVE_CONFIG_VAR(degeneracy_ratio, c, s);
   MRPT_SAVE_CONFIG_VAR(degenerate_fusion, c, s);
@@ -258,7 +261,8 @@ IcpResult alignPlanar(
   const double dxy = std::hypot(sol.x() - predicted.x(), sol.y() - predicted.y());
   const double dyaw = std::abs(mrpt::math::wrapToPi(sol.phi() - predicted.phi()));
   // Beyond max_correction_xy_m only a good, fully constrained registration passes the gate.
-  const bool gateable = r.goodness >= p.confirm_min_goodness && !r.degenerate;
+  const bool big_cloud = static_cast<double>(cloud_robot.size()) >= p.large_correction_min_points;
+  const bool gateable = r.goodness >= p.confirm_min_goodness && !r.degenerate && big_cloud;
   std::ostringstream why;
   if (!std::isfinite(sol.x()) || !std::isfinite(sol.y()) || !std::isfinite(sol.phi()))
     why << "non-finite solution";
@@ -272,7 +276,11 @@ IcpResult alignPlanar(
     why << "correction " << dxy << " m > " << p.max_correction_xy_m << " m";
     if (dxy <= gate_xy_m)
       why << " (within the gate of " << gate_xy_m << " m, but "
-          << (r.degenerate ? std::string("degenerate") : "goodness " + std::to_string(r.goodness)) << ")";
+          << (r.degenerate ? std::string("degenerate")
+              : !big_cloud ? "a cloud of " + std::to_string(cloud_robot.size()) + " points < " +
+                                 std::to_string(p.large_correction_min_points)
+                           : "goodness " + std::to_string(r.goodness))
+          << ")";
     r.over_correction_limit = true;
   }
   else if (dyaw > p.max_correction_yaw)

@@ -145,7 +145,8 @@ void SlamIcp::registerStop(StopReport& rep, const RobotCloud& cloud, bool has_de
       keepFittingPrediction(rep, cloud, first_try, std_since_m);
     rep.pose = rep.icp.pose;
     const bool large = first_try.over_correction_limit && !first_try.degenerate &&
-                       first_try.goodness >= params_.icp.confirm_min_goodness;
+                       first_try.goodness >= params_.icp.confirm_min_goodness &&
+                       static_cast<double>(cloud.points.size()) >= params_.icp.large_correction_min_points;
     if (!rep.icp.accepted && params_.icp.confirm_large_corrections && (large || rep.held))
       large_correction_ = LargeCorrection{rep.index, first_try.icp_pose, rep.predicted, first_try.goodness};
   }
