@@ -261,14 +261,20 @@ struct CountingListener : mission::Listener
 {
   std::size_t scans = 0, stops = 0, plans = 0, robot_steps = 0;
   std::vector<double> plan_paths;  ///< path_length_m at each plan [m]
+  /// the largest Frontier::unknown_m2 of each plan's frontiers (-1: none) [m^2]
+  std::vector<double> plan_pockets;
   std::optional<std::size_t> stop_after_robot_steps;
   void onScan(const mission::Scan&) override { scans++; }
   void onStop(const mission::Scan&, const mapping::StopReport&) override { stops++; }
-  void onPlan(const exploration::PlanResult&, double,
+  void onPlan(const exploration::PlanResult& plan, double,
               const mission::ExplorationStatus& status) override
   {
     plans++;
     plan_paths.push_back(status.path_length_m);
+    double largest = -1;
+    if (plan.frontiers)
+      for (const auto& f : plan.frontiers->frontiers) largest = std::max(largest, f.unknown_m2);
+    plan_pockets.push_back(largest);
   }
   void onRobotStep() override { robot_steps++; }
   std::string stopReason() override
@@ -483,6 +489,51 @@ TEST(ExplorationLoop, StagnationOverThePathWaitsForTheWindowToBeDriven)
   setup.loop.stagnation_path_m = 1000.0;
   setup.loop.max_steps = 4;
   EXPECT_NE(exploreTwoRooms(setup).termination_reason, "stagnation");
+}
+
+TEST(ExplorationLoop, TheTailRuleWaitsWhileAFrontierFacesOpenUnknown)
+{
+  // The tail rule with a gain no drive reaches over a 1.5 m window and any
+  // closed pocket counted small: while a frontier faces open unknown (a room
+  // not entered, unknown out to the grid's border) the run goes on, the
+  // window driven; it ends by itself when nothing is left to reach.
+  RobotSetup setup;
+  setup.loop.stagnation_path_m = 0;
+  setup.loop.tail_path_m = 1.5;
+  setup.loop.tail_min_gain_m2 = 1000.0;
+  setup.loop.tail_pocket_m2 = std::numeric_limits<double>::infinity();
+  setup.loop.max_steps = 40;
+  CountingListener events;
+  const auto status = exploreTwoRooms(setup, &events);
+  std::size_t open_after_window = 0;
+  for (std::size_t i = 0; i < events.plan_pockets.size(); ++i)
+  {
+    std::cout << "[ tail ] step " << i << ": " << events.plan_paths[i] << " m, largest pocket "
+              << events.plan_pockets[i] << " m^2\n";
+    open_after_window += events.plan_paths[i] >= 1.5 && std::isinf(events.plan_pockets[i]);
+  }
+  std::cout << "[ tail ] " << status.termination_reason << " after " << status.steps << " steps\n";
+  EXPECT_GE(open_after_window, 2u) << "steps the rule had to wait through";
+  EXPECT_NE(status.termination_reason, "only small pockets left");
+  EXPECT_NE(status.termination_reason, "max_steps");
+}
+
+TEST(ExplorationLoop, OnlySmallPocketsNeedsEveryFrontierOnASmallClosedPocket)
+{
+  const auto frontier = [](double unknown_m2)
+  {
+    exploration::Frontier f;
+    f.unknown_m2 = unknown_m2;
+    return f;
+  };
+  using L = mission::ExplorationLoop;
+  EXPECT_TRUE(L::onlySmallPockets({frontier(0.4), frontier(3.9)}, 4.0));
+  EXPECT_FALSE(L::onlySmallPockets({frontier(0.4), frontier(4.0)}, 4.0)) << "a room's worth";
+  EXPECT_FALSE(L::onlySmallPockets({frontier(0.4), frontier(std::numeric_limits<double>::infinity())},
+                                   std::numeric_limits<double>::infinity()))
+      << "open unknown is never small";
+  EXPECT_FALSE(L::onlySmallPockets({}, 4.0)) << "no frontier: the planner's end, not the tail's";
+  EXPECT_FALSE(mission::ExplorationLoopParams{}.tail_path_m <= 0) << "on by default";
 }
 
 TEST(ExplorationLoop, ALowObstacleSeenOnTheWayEndsTheDrive)

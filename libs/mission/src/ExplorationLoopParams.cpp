@@ -29,6 +29,12 @@ void ExplorationLoopParams::loadFromConfigFile(const mrpt::config::CConfigFileBa
   MRPT_LOAD_CONFIG_VAR(stagnation_min_gain_m2, double, c, s);
   MRPT_LOAD_CONFIG_VAR(stagnation_path_m, double, c, s);
   MRPT_LOAD_CONFIG_VAR(stagnation_path_min_gain_m2, double, c, s);
+  MRPT_LOAD_CONFIG_VAR(tail_path_m, double, c, s);
+  MRPT_LOAD_CONFIG_VAR(tail_min_gain_m2, double, c, s);
+  MRPT_LOAD_CONFIG_VAR(tail_pocket_m2, double, c, s);
+  common::requireValid(tail_path_m >= 0, c, s, "tail_path_m", "must be >= 0 (0 = off)");
+  common::requireValid(tail_min_gain_m2 >= 0, c, s, "tail_min_gain_m2", "must be >= 0");
+  common::requireValid(tail_pocket_m2 >= 0, c, s, "tail_pocket_m2", "must be >= 0");
   MRPT_LOAD_CONFIG_VAR(cut_off_replan_m2, double, c, s);
   common::requireValid(cut_off_replan_m2 >= 0, c, s, "cut_off_replan_m2", "must be >= 0");
   common::requireValid(stagnation_steps >= 0, c, s, "stagnation_steps", "must be >= 0");
@@ -67,6 +73,9 @@ void ExplorationLoopParams::saveToConfigFile(mrpt::config::CConfigFileBase& c,
   MRPT_SAVE_CONFIG_VAR(stagnation_new_frontier_guard, c, s);
   MRPT_SAVE_CONFIG_VAR(stagnation_steps, c, s);
   MRPT_SAVE_CONFIG_VAR(stagnation_min_gain_m2, c, s);
+  MRPT_SAVE_CONFIG_VAR(tail_path_m, c, s);
+  MRPT_SAVE_CONFIG_VAR(tail_min_gain_m2, c, s);
+  MRPT_SAVE_CONFIG_VAR(tail_pocket_m2, c, s);
   MRPT_SAVE_CONFIG_VAR(stagnation_path_m, c, s);
   MRPT_SAVE_CONFIG_VAR(stagnation_path_min_gain_m2, c, s);
   MRPT_SAVE_CONFIG_VAR(cut_off_replan_m2, c, s);

@@ -83,6 +83,8 @@ void ExplorationLoop::noteFrontiers(const exploration::PlanResult& plan)
         return (c - f.center).norm() <= radius;
       });
     }
+  status_.small_pockets_only =
+      plan.frontiers && onlySmallPockets(plan.frontiers->frontiers, params_.tail_pocket_m2);
   status_.unobservable_m2 = plan.retired_m2;
   if (!plan.ground) return;
   status_.known_floor_m2 = knownFloorM2(*plan.ground);
@@ -97,9 +99,17 @@ std::optional<double> ExplorationLoop::stagnationGain() const
   return known_floor_.back() - known_floor_[known_floor_.size() - 1 - k];
 }
 
-std::optional<double> ExplorationLoop::pathStagnationGain() const
+bool ExplorationLoop::onlySmallPockets(const std::vector<exploration::Frontier>& frontiers,
+                                       double max_m2)
 {
-  const double window = params_.stagnation_path_m;
+  return !frontiers.empty() &&
+         std::all_of(frontiers.begin(), frontiers.end(),
+                     [&](const exploration::Frontier& f) { return f.unknown_m2 < max_m2; });
+}
+
+std::optional<double> ExplorationLoop::floorGainOver(double window_m) const
+{
+  const double window = window_m;
   if (window <= 0 || path_at_plan_.size() < 2) return std::nullopt;
   // The latest earlier step at least `window` metres of driving back.
   const double back = path_at_plan_.back() - window;
@@ -118,13 +128,24 @@ bool ExplorationLoop::stagnated()
   else if (const auto g = pathStagnationGain(); g && *g < params_.stagnation_path_min_gain_m2)
     why = mrpt::format("%.1f m^2 of floor found over the last %.0f m driven (< %.1f)", *g,
                        params_.stagnation_path_m, params_.stagnation_path_min_gain_m2);
-  if (why.empty()) return false;
-  if (params_.stagnation_new_frontier_guard && status_.new_frontiers > 0) return false;
+  if (params_.stagnation_new_frontier_guard && status_.new_frontiers > 0) why.clear();
   double left_m = 0;
   for (const auto& f : status_.frontiers_left) left_m += f.second;
-  status_.termination_reason = "stagnation";
-  message(mrpt::format("stagnation: %s; %zu frontier(s) left, %.1f m", why.c_str(),
-                       status_.frontiers_left.size(), left_m));
+  if (!why.empty())
+  {
+    status_.termination_reason = "stagnation";
+    message(mrpt::format("stagnation: %s; %zu frontier(s) left, %.1f m", why.c_str(),
+                         status_.frontiers_left.size(), left_m));
+    return true;
+  }
+  const auto tail = floorGainOver(params_.tail_path_m);
+  if (!status_.small_pockets_only || !tail || *tail >= params_.tail_min_gain_m2) return false;
+  status_.termination_reason = "only small pockets left";
+  message(mrpt::format("only small pockets left: %.1f m^2 of floor found over the last %.0f m driven "
+                       "(< %.1f), and the %zu frontier(s) left (%.1f m) border only closed pockets of "
+                       "unknown under %.1f m^2 each",
+                       *tail, params_.tail_path_m, params_.tail_min_gain_m2,
+                       status_.frontiers_left.size(), left_m, params_.tail_pocket_m2));
   return true;
 }
 

@@ -132,6 +132,17 @@ struct ExplorationLoopParams : public mrpt::config::CLoadableOptions
   /// all its savings (path -6.8 % -> -0.7 %): frontier centres move as
   /// frontiers shrink, and a sliver planned before looks new.
   bool stagnation_new_frontier_guard = false;
+  /// The tail (issue 12's "real end"): the run ends ("only small pockets
+  /// left") when the free floor known in G grew by less than
+  /// tail_min_gain_m2 while the robot drove the last tail_path_m metres and
+  /// every frontier left borders only closed pockets of open unknown, each
+  /// under tail_pocket_m2 (Frontier::unknown_m2: under a desk, beside a
+  /// cabinet). A room not entered yet is a large or open pocket and keeps
+  /// the run going, where a window of metres alone cut it (100 m / 5 m^2:
+  /// b10 compact nearest 0.978 -> 0.889). 0 = off [m].
+  double tail_path_m = 40;
+  double tail_min_gain_m2 = 3.0;  ///< [m^2]
+  double tail_pocket_m2 = 4.0;    ///< [m^2]
   /// Shut in (issue 12): when the planner finds nothing to do while at least
   /// this much known free floor, and more than half of it, is cut off from
   /// the robot (exploration::cutOffFloorM2), it plans once more trusting the swept
@@ -177,7 +188,7 @@ struct ExplorationLoopParams : public mrpt::config::CLoadableOptions
 struct ExplorationStatus
 {
   /// Empty while running; then the planner's done reason ("no frontier",
-  /// ...), "stagnation", "max_steps", "max_sim_time", or what
+  /// ...), "stagnation", "only small pockets left", "max_steps", "max_sim_time", or what
   /// Listener::stopReason() said
   std::string termination_reason;
   std::size_t steps = 0;          ///< planning steps
@@ -197,6 +208,10 @@ struct ExplorationStatus
   /// At the end (the planner found nothing to do): the known free floor the
   /// robot cannot get to (exploration::cutOffFloorM2) [m^2]
   double known_floor_cut_off_m2 = 0;
+  /// The frontiers of the last planning step border only closed pockets of
+  /// open unknown, each under ExplorationLoopParams::tail_pocket_m2 (false
+  /// without frontiers)
+  bool small_pockets_only = false;
   /// Open unknown of the last planning step that the stops looked at and
   /// left unknown, no frontier source ([sampling] retire_looks) [m^2]
   double unobservable_m2 = 0;
@@ -274,6 +289,10 @@ class ExplorationLoop
   ///        stop composed with the odometry increment since (map frame).
   mrpt::poses::CPose2D poseEstimate() const;
 
+  /// @brief Whether `frontiers` is not empty and each borders only closed pockets
+  /// of open unknown under `max_m2` in all (Frontier::unknown_m2).
+  static bool onlySmallPockets(const std::vector<exploration::Frontier>& frontiers, double max_m2);
+
  private:
   class PosedRobot;
   void loop();
@@ -315,8 +334,12 @@ class ExplorationLoop
   std::optional<double> stagnationGain() const;
   /// The free floor found while the robot drove the last stagnation_path_m
   /// metres [m^2]; empty when the rule is off or the path is not that long yet.
-  std::optional<double> pathStagnationGain() const;
-  /// The end of a run that stopped finding floor: "stagnation" and a message
+  std::optional<double> pathStagnationGain() const { return floorGainOver(params_.stagnation_path_m); }
+  /// The free floor found while the robot drove the last `window_m` metres
+  /// [m^2]; empty when `window_m` is 0 or the path is not that long yet.
+  std::optional<double> floorGainOver(double window_m) const;
+  /// The end of a run that stopped finding floor: "stagnation" (or "only
+  /// small pockets left", ExplorationLoopParams::tail_path_m) and a message
   /// saying what is left; false while the run goes on.
   bool stagnated();
   void onRobotStep();
