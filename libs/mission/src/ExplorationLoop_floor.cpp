@@ -107,9 +107,8 @@ bool ExplorationLoop::onlySmallPockets(const std::vector<exploration::Frontier>&
                      [&](const exploration::Frontier& f) { return f.unknown_m2 < max_m2; });
 }
 
-std::optional<double> ExplorationLoop::floorGainOver(double window_m) const
+std::optional<double> ExplorationLoop::floorGainOver(double window) const
 {
-  const double window = window_m;
   if (window <= 0 || path_at_plan_.size() < 2) return std::nullopt;
   // The latest earlier step at least `window` metres of driving back.
   const double back = path_at_plan_.back() - window;
