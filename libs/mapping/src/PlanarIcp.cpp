@@ -261,7 +261,7 @@ IcpResult alignPlanar(
   const double dxy = std::hypot(sol.x() - predicted.x(), sol.y() - predicted.y());
   const double dyaw = std::abs(mrpt::math::wrapToPi(sol.phi() - predicted.phi()));
   // Beyond max_correction_xy_m only a good, fully constrained registration passes the gate.
-  const bool big_cloud = static_cast<double>(cloud_robot.size()) >= p.large_correction_min_points;
+  const bool big_cloud = p.largeCorrectionAllowed(cloud_robot.size());
   const bool gateable = r.goodness >= p.confirm_min_goodness && !r.degenerate && big_cloud;
   std::ostringstream why;
   if (!std::isfinite(sol.x()) || !std::isfinite(sol.y()) || !std::isfinite(sol.phi()))

@@ -146,7 +146,7 @@ void SlamIcp::registerStop(StopReport& rep, const RobotCloud& cloud, bool has_de
     rep.pose = rep.icp.pose;
     const bool large = first_try.over_correction_limit && !first_try.degenerate &&
                        first_try.goodness >= params_.icp.confirm_min_goodness &&
-                       static_cast<double>(cloud.points.size()) >= params_.icp.large_correction_min_points;
+                       params_.icp.largeCorrectionAllowed(cloud.points.size());
     if (!rep.icp.accepted && params_.icp.confirm_large_corrections && (large || rep.held))
       large_correction_ = LargeCorrection{rep.index, first_try.icp_pose, rep.predicted, first_try.goodness};
   }

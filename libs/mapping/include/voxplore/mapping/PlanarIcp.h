@@ -64,6 +64,13 @@ struct IcpParams : public mrpt::config::CLoadableOptions
   /// 3 left it 0.5-2.7 m off; every gated or confirmed correction of the 80
   /// campaign runs had over 9,000. 0 = any cloud.
   int large_correction_min_points = 1000;
+  /// @brief Whether a cloud of `points` may correct beyond max_correction_*
+  ///        (large_correction_min_points; alignPlanar's gate and SlamIcp's
+  ///        confirmation both ask this).
+  bool largeCorrectionAllowed(std::size_t points) const
+  {
+    return static_cast<double>(points) >= large_correction_min_points;
+  }
   /// SlamIcp: an accepted registration that moved the prediction by more
   /// than hold_sigmas odometry stds (summed since the last registered stop)
   /// and more than hold_min_m, at a goodness under hold_sure_goodness, is

@@ -335,9 +335,9 @@ class ExplorationLoop
   /// The free floor found while the robot drove the last stagnation_path_m
   /// metres [m^2]; empty when the rule is off or the path is not that long yet.
   std::optional<double> pathStagnationGain() const { return floorGainOver(params_.stagnation_path_m); }
-  /// The free floor found while the robot drove the last `window_m` metres
-  /// [m^2]; empty when `window_m` is 0 or the path is not that long yet.
-  std::optional<double> floorGainOver(double window_m) const;
+  /// The free floor found while the robot drove the last `window` metres
+  /// [m^2]; empty when `window` is 0 or the path is not that long yet.
+  std::optional<double> floorGainOver(double window) const;
   /// The end of a run that stopped finding floor: "stagnation" (or "only
   /// small pockets left", ExplorationLoopParams::tail_path_m) and a message
   /// saying what is left; false while the run goes on.
