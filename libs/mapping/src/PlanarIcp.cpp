@@ -38,7 +38,6 @@ void IcpParams::loadFromConfigFile(const mrpt::config::CConfigFileBase& c, const
   MRPT_LOAD_CONFIG_VAR(hold_sigmas, double, c, s);
   MRPT_LOAD_CONFIG_VAR(hold_min_m, double, c, s);
   MRPT_LOAD_CONFIG_VAR(hold_sure_goodness, double, c, s);
-  MRPT_LOAD_CONFIG_VAR(hold_sure_min_points, int, c, s);
   MRPT_LOAD_CONFIG_VAR(keep_fitting_prediction, bool, c, s);
   MRPT_LOAD_CONFIG_VAR(keep_low_overlap_max_std_m, double, c, s);
   MRPT_LOAD_CONFIG_VAR(confirm_large_corrections, bool, c, s);
@@ -95,7 +94,6 @@ void IcpParams::loadFromConfigFile(const mrpt::config::CConfigFileBase& c, const
   requireValid(confirm_min_goodness >= 0 && confirm_min_goodness <= 1, c, s, "confirm_min_goodness",
                "must be in [0, 1]");
   requireValid(large_correction_min_points >= 0, c, s, "large_correction_min_points", "must be >= 0");
-  requireValid(hold_sure_min_points >= 0, c, s, "hold_sure_min_points", "must be >= 0 (0 = goodness alone)");
   requireValid(odometry_prior_pairs >= 0, c, s, "odometry_prior_pairs", "must be >= 0");
   requireValid(odometry_prior_step_m > 0, c, s, "odometry_prior_step_m", "must be > 0");
   requireValid(degeneracy_ratio >= 0 && degeneracy_ratio < 1, c, s, "degeneracy_ratio",
@@ -144,7 +142,6 @@ void IcpParams::saveToConfigFile(mrpt::config::CConfigFileBase& c, const std::st
   MRPT_SAVE_CONFIG_VAR(hold_sigmas, c, s);
   MRPT_SAVE_CONFIG_VAR(hold_min_m, c, s);
   MRPT_SAVE_CONFIG_VAR(hold_sure_goodness, c, s);
-  MRPT_SAVE_CONFIG_VAR(hold_sure_min_points, c, s);
   MRPT_SAVE_CONFIG_VAR(keep_fitting_prediction, c, s);
   MRPT_SAVE_CONFIG_VAR(keep_low_overlap_max_std_m, c, s);
   MRPT_SAVE_CONFIG_VAR(confirm_large_corrections, c, s);

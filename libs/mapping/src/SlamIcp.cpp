@@ -165,20 +165,14 @@ void SlamIcp::registerStop(StopReport& rep, const RobotCloud& cloud, bool has_de
 void SlamIcp::holdIfUnsure(StopReport& rep, double std_since_m)
 {
   const IcpParams& p = params_.icp;
-  const bool sparse = rep.cloud_points < static_cast<std::size_t>(p.hold_sure_min_points);
-  if (!rep.icp.accepted || p.hold_sigmas <= 0 || (rep.icp.goodness >= p.hold_sure_goodness && !sparse))
-    return;
+  if (!rep.icp.accepted || p.hold_sigmas <= 0 || rep.icp.goodness >= p.hold_sure_goodness) return;
   const double dxy = std::hypot(rep.icp.pose.x() - rep.predicted.x(), rep.icp.pose.y() - rep.predicted.y());
   const double stds = dxy / std::max(std_since_m, 1e-9);
   if (dxy <= p.hold_min_m || stds <= p.hold_sigmas) return;
   std::ostringstream why;
   why << "held: correction " << dxy << " m (" << stds << " odometry stds > hold_sigmas = " << p.hold_sigmas
-      << ") at goodness " << rep.icp.goodness;
-  if (rep.icp.goodness < p.hold_sure_goodness)
-    why << " < hold_sure_goodness = " << p.hold_sure_goodness;
-  else
-    why << " from " << rep.cloud_points << " points < hold_sure_min_points = " << p.hold_sure_min_points;
-  why << (p.confirm_large_corrections ? ", waits for the next stop to confirm it" : "");
+      << ") at goodness " << rep.icp.goodness << " < hold_sure_goodness = " << p.hold_sure_goodness
+      << (p.confirm_large_corrections ? ", waits for the next stop to confirm it" : "");
   if (!rep.icp.reason.empty()) why << "; " << rep.icp.reason;
   rep.icp.reason = why.str();
   rep.icp.accepted = false;

@@ -84,14 +84,6 @@ struct IcpParams : public mrpt::config::CLoadableOptions
   double hold_sigmas = 8;
   double hold_min_m = 0.10;         ///< ... and more than this [m] ...
   double hold_sure_goodness = 0.9;  ///< ... from a registration less good than this
-  /// ... or from a cloud of fewer points than this, whatever its goodness:
-  /// a few hundred points (furniture legs, one cabinet, no wall within the
-  /// 7 m range) pair fully (goodness 1) after a slide along a look-alike
-  /// structure. willowgarage's open east side, compact robot: of 41
-  /// registrations from under 1,000 points that moved the prediction by 8+
-  /// odometry stds and 5+ cm, 21 moved the pose 5-30 cm further from the
-  /// truth. 0 = goodness alone.
-  int hold_sure_min_points = 1000;
   /// SlamIcp: a stop whose registration was refused or held, while its
   /// odometry prediction pairs at least as much of the cloud as that
   /// registration did (goodnessAt() at the prediction >= the registration's
