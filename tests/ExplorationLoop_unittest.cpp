@@ -536,6 +536,21 @@ TEST(ExplorationLoop, OnlySmallPocketsNeedsEveryFrontierOnASmallClosedPocket)
   EXPECT_FALSE(mission::ExplorationLoopParams{}.tail_path_m <= 0) << "on by default";
 }
 
+TEST(ExplorationLoop, AKnownFloorFallenByHalfIsAMapThatShutTheRobotIn)
+{
+  using L = mission::ExplorationLoop;
+  // willowgarage compact nbv's last steps: 1,057 m^2 known, then 72.
+  EXPECT_TRUE(L::floorCollapsed({12, 900, 1047.7, 1057.3, 72.0}));
+  EXPECT_TRUE(L::floorCollapsed({400, 199}));
+  // A rebuild after a loop closure or a door drawn 2 cm narrower loses a
+  // little; a run still growing or standing still loses nothing.
+  EXPECT_FALSE(L::floorCollapsed({400, 380}));
+  EXPECT_FALSE(L::floorCollapsed({400, 200}));
+  EXPECT_FALSE(L::floorCollapsed({10, 20, 30}));
+  EXPECT_FALSE(L::floorCollapsed({50}));
+  EXPECT_FALSE(L::floorCollapsed({}));
+}
+
 TEST(ExplorationLoop, ALowObstacleSeenOnTheWayEndsTheDrive)
 {
   // A 5 cm plate the robot's obstacle fan (0.1 m and up) never senses and

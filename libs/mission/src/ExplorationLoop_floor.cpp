@@ -1,6 +1,6 @@
 /* voxplore — ExplorationLoop's account of the floor: what is known, what is
  * cut off from the robot (and planning again when it is shut in), the
- * frontiers left, and stagnation. */
+ * frontiers left, stagnation, and a map that shut the robot in. */
 #include <mrpt/core/format.h>
 #include <voxplore/mission/ExplorationLoop.h>
 
@@ -118,6 +118,13 @@ std::optional<double> ExplorationLoop::floorGainOver(double window) const
   return known_floor_.back() - known_floor_[j];
 }
 
+bool ExplorationLoop::floorCollapsed(const std::vector<double>& known_floor)
+{
+  if (known_floor.size() < 2) return false;
+  // Half, as replanShutIn's "more than half of the known floor cut off".
+  return known_floor.back() < 0.5 * *std::max_element(known_floor.begin(), known_floor.end() - 1);
+}
+
 bool ExplorationLoop::stagnated()
 {
   std::string why;
@@ -132,6 +139,19 @@ bool ExplorationLoop::stagnated()
   for (const auto& f : status_.frontiers_left) left_m += f.second;
   if (!why.empty())
   {
+    // A negative gain from a known floor that fell by half or more is no
+    // explored building: the map shut the robot in (willowgarage compact nbv:
+    // 1,057 -> 72 m^2 in one step at 1.1 m of drift, coverage 0.03; issue 11).
+    if (floorCollapsed(known_floor_))
+    {
+      status_.termination_reason = "the map shut the robot in";
+      message(mrpt::format(
+          "the map shut the robot in: the free floor known in G fell from %.0f to %.0f m^2 (%s): "
+          "a wall drawn across the way the robot came, by pose drift; %zu frontier(s) left, %.1f m",
+          *std::max_element(known_floor_.begin(), known_floor_.end() - 1), known_floor_.back(),
+          why.c_str(), status_.frontiers_left.size(), left_m));
+      return true;
+    }
     status_.termination_reason = "stagnation";
     message(mrpt::format("stagnation: %s; %zu frontier(s) left, %.1f m", why.c_str(),
                          status_.frontiers_left.size(), left_m));

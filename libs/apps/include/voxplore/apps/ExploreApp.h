@@ -56,7 +56,7 @@ struct ExploreOptions
 /// @brief What a run achieved (also summary.json).
 struct ExploreSummary
 {
-  std::string termination_reason;  ///< planner's done reason, "stagnation", "only small pockets left", "max_steps", "max_sim_time" or "interrupted" (SIGINT / SIGTERM)
+  std::string termination_reason;  ///< planner's done reason, "stagnation", "the map shut the robot in", "only small pockets left", "max_steps", "max_sim_time" or "interrupted" (SIGINT / SIGTERM)
   std::string planner_model;  ///< the collision model planned with: "circle" or "footprint" ([collision] model, auto resolved)
   std::size_t steps = 0;           ///< planning steps
   std::size_t stops = 0;           ///< scan stops (SlamIcp calls)

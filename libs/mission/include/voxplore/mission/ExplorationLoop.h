@@ -188,8 +188,10 @@ struct ExplorationLoopParams : public mrpt::config::CLoadableOptions
 struct ExplorationStatus
 {
   /// Empty while running; then the planner's done reason ("no frontier",
-  /// ...), "stagnation", "only small pockets left", "max_steps", "max_sim_time", or what
-  /// Listener::stopReason() said
+  /// ...), "stagnation", "the map shut the robot in" (the stagnation rule
+  /// fired on a known floor fallen under half of its largest: drift drew a
+  /// wall across the way the robot came), "only small pockets left",
+  /// "max_steps", "max_sim_time", or what Listener::stopReason() said
   std::string termination_reason;
   std::size_t steps = 0;          ///< planning steps
   std::size_t failed_drives = 0;  ///< waypoints not reached (Blocked / Timeout / Error)
@@ -292,6 +294,10 @@ class ExplorationLoop
   /// @brief Whether `frontiers` is not empty and each borders only closed pockets
   /// of open unknown under `max_m2` in all (Frontier::unknown_m2).
   static bool onlySmallPockets(const std::vector<exploration::Frontier>& frontiers, double max_m2);
+  /// @brief Whether the last of the known floors (m^2 at each planning step)
+  ///        is under half of the largest before it: G lost its floor, the
+  ///        map (not the building) shut the robot in.
+  static bool floorCollapsed(const std::vector<double>& known_floor);
 
  private:
   class PosedRobot;
