@@ -6,6 +6,7 @@
 #include <octomap/OcTree.h>
 #include <voxplore/apps/ExploreApp.h>
 #include <voxplore/apps/PlanApp.h>
+#include <voxplore/apps/ReplayApp.h>
 #include <voxplore/eval/map_accuracy.h>
 #include <voxplore/sim/ground_truth.h>
 #include <voxplore/sim/world_loading.h>
@@ -13,6 +14,7 @@
 #include <algorithm>
 #include <filesystem>
 #include <fstream>
+#include <iostream>
 #include <nlohmann/json.hpp>
 #include <sstream>
 #include <string>
@@ -160,6 +162,86 @@ TEST(Explore, DlrTestRoomIsExploredCompletelySafelyAndAccurately)
   std::size_t lines = 0;
   for (std::string l; std::getline(csv, l);) lines++;
   EXPECT_EQ(lines, s.steps + 1);
+}
+
+// [explore] scan_mode = continuous (issue 15): the room explored as fully and
+// safely, scanning on the way, in less simulated time than stopping at every
+// waypoint; the run's rawlog replays to the same trajectory.
+TEST(Explore, ContinuousScanningExploresTheRoomSoonerAndItsRawlogReplaysToTheSameTrajectory)
+{
+  const auto robot = std::string("compact");
+  const auto stop_out = outDir("scan_stop");
+  auto so = options(stop_out);
+  so.robot = robot;
+  const auto stopping = apps::ExploreApp{}.execute(so);
+
+  const auto out = outDir("scan_continuous");
+  fs::create_directories(out);
+  const std::string ini = (fs::path(out).parent_path() / "voxplore_continuous.ini").string();
+  {
+    std::ifstream in(VOXPLORE_SOURCE_DIR "/config/explore.ini");
+    std::stringstream text;
+    text << in.rdbuf();
+    std::string cfg = text.str();
+    const auto at = cfg.find("\nscan_mode ");
+    ASSERT_NE(at, std::string::npos) << "config/explore.ini documents [explore] scan_mode";
+    const auto eol = cfg.find('\n', at + 1);
+    cfg.replace(at + 1, eol - at - 1, "scan_mode = continuous");
+    std::ofstream(ini) << cfg;
+  }
+  auto co = options(out);
+  co.config = ini;
+  co.robot = robot;
+  const auto s = apps::ExploreApp{}.execute(co);
+
+  EXPECT_EQ(s.termination_reason, "no frontier");
+  EXPECT_GE(s.coverage_2d, 0.95);
+  EXPECT_GE(s.coverage_2d, stopping.coverage_2d - 0.02);
+  EXPECT_EQ(s.collisions, 0u);
+  EXPECT_GE(s.min_clearance_m, 0.02);
+  EXPECT_LT(s.ate_rmse_m, 0.05);
+  EXPECT_GT(s.scans_moving, s.stops / 4) << s.stops << " stops";
+  EXPECT_LT(s.sim_time_s, stopping.sim_time_s);
+  std::cout << "[ continuous ] sim time " << s.sim_time_s << " s (stop-and-scan "
+            << stopping.sim_time_s << " s), path " << s.path_length_m << " m ("
+            << stopping.path_length_m << " m), coverage " << s.coverage_2d << " ("
+            << stopping.coverage_2d << "), stops " << s.stops << " of them " << s.scans_moving
+            << " moving, ATE " << s.ate_rmse_m << " m, min clearance " << s.min_clearance_m
+            << " m" << std::endl;
+
+  // The scans taken on the way are ordinary stops of the rawlog: replayed
+  // with the run's SLAM sections, they give the run's trajectory.
+  const std::string slam_ini = out + "_slam.ini";
+  {
+    std::ifstream in(ini);
+    std::ofstream o(slam_ini);
+    bool keep = false;
+    for (std::string line; std::getline(in, line);)
+    {
+      if (!line.empty() && line[0] == '[')
+        keep = line.rfind("[cloud]", 0) == 0 || line.rfind("[metaview]", 0) == 0 ||
+               line.rfind("[icp]", 0) == 0 || line.rfind("[octomap]", 0) == 0 ||
+               line.rfind("[loop_closure]", 0) == 0;
+      if (keep) o << line << '\n';
+    }
+  }
+  apps::ReplayOptions r;
+  r.config = slam_ini;
+  r.rawlog = out + "/run.rawlog";
+  r.out_dir = out + "/replay";
+  r.quiet = true;
+  const auto rep = apps::ReplayApp{}.execute(r);
+  EXPECT_EQ(rep.stops, s.stops);
+  const auto slurp = [](const std::string& f)
+  {
+    std::ifstream in(f);
+    std::stringstream t;
+    t << in.rdbuf();
+    return t.str();
+  };
+  const std::string est = slurp(out + "/trajectory_est.tum");
+  EXPECT_GT(est.size(), 100u);
+  EXPECT_EQ(slurp(out + "/replay/trajectory_est.tum"), est);
 }
 
 TEST(Explore, SameSeedGivesTheSameSummary)

@@ -409,6 +409,59 @@ TEST(StopAndScanDriver, OmnirobDrivesALapRoundTheMeetingTableWithoutCollision)
             << "mean " << s.mean_error_m << " m, worst " << s.worst_error_m << " m" << std::endl;
 }
 
+// scan_mode = continuous: the same lap through its waypoints without
+// stopping (passBy), stopping at the last one only.
+TEST(StopAndScanDriver, APassedLapKeepsMovingThroughItsWaypointsAndTakesLessTime)
+{
+  const auto wps = lapRoundMeetingTable();
+  SimRig stopping("omnirob");
+  const LapStats stop = driveLap(stopping, wps);
+  SimRig passing("omnirob");
+  const double tol = 0.15;
+  double sim_time_s = 0, distance_m = 0;
+  std::size_t passed = 0;
+  for (std::size_t i = 0; i < wps.size(); i++)
+  {
+    const bool last = i + 1 == wps.size();
+    const auto r = last ? passing.driver->driveTo(wps[i], std::nullopt)
+                        : passing.driver->passBy(wps[i], tol);
+    ASSERT_EQ(r.outcome, DriveOutcome::Reached)
+        << "waypoint " << i << " (" << wps[i].transpose() << "): " << r.message;
+    sim_time_s += r.sim_time_s;
+    distance_m += r.distance_m;
+    const auto v = passing.robot->velocity();
+    if (!last)
+    {
+      // Passed within the tolerance (and a step's travel: MRPT judges the
+      // segment the robot moved), still moving.
+      EXPECT_LE(r.goal_distance_m, tol + 0.5 * passing.driver->params().dt_s) << "waypoint " << i;
+      passed += std::hypot(v.vx, v.vy) > 0.1;
+    }
+    else
+    {
+      EXPECT_LE(r.goal_distance_m, passing.driver->params().goal_tolerance_m);
+      EXPECT_EQ(std::hypot(v.vx, v.vy), 0.0);
+    }
+  }
+  EXPECT_EQ(passed, wps.size() - 1);
+  EXPECT_EQ(passing.collisions(), 0u);
+  EXPECT_GT(distance_m, 15.0);
+  // Near full speed all the way (the last waypoint slows down), where
+  // stopping at each waypoint costs a slow-down and a ramp-up each.
+  EXPECT_LT(sim_time_s, 1.1 * distance_m / passing.driver->params().max_v_mps);
+  EXPECT_LT(sim_time_s, 0.9 * stop.sim_time_s);
+  std::cout << "[ omnirob lap ] stopping at every waypoint " << stop.sim_time_s << " s, "
+            << stop.distance_m << " m; passing them " << sim_time_s << " s, " << distance_m
+            << " m" << std::endl;
+}
+
+TEST(StopAndScanDriver, PassByRefusesAToleranceOfZero)
+{
+  IdealRobot robot;
+  StopAndScanDriver driver(robot, DriverParams());
+  EXPECT_THROW(driver.passBy({1.0, 0.0}, 0.0), std::invalid_argument);
+}
+
 TEST(StopAndScanDriver, SameRunTwiceGivesTheSamePoses)
 {
   const std::vector<Vector2d> wps = {{2.0, 3.0}, {2.0, 2.0}, {2.7, 1.45}, {3.7, 1.45}};

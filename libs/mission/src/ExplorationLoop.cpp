@@ -236,6 +236,7 @@ void ExplorationLoop::scanAndIntegrate()
   status_.slam_ms_step += dt * 1e3;
   pose_at_stop_ = rep.pose;
   odo_at_stop_ = robot_.odometry();
+  t_last_scan_s_ = mrpt::Clock::toDouble(robot_.now());
   last_estimate_ = rep.pose;
   if (rep.loop.closed)
   {
@@ -259,6 +260,7 @@ void ExplorationLoop::scanAndIntegrate()
 ExplorationLoop::Drive ExplorationLoop::driveWaypoints(const exploration::PlanResult& plan)
 {
   const auto& wps = plan.waypoints;
+  const bool continuous = params_.scan_mode == ExplorationLoopParams::ScanMode::Continuous;
   for (std::size_t i = 0; i < wps.size(); i++)
   {
     const bool last = i + 1 == wps.size();
@@ -267,11 +269,17 @@ ExplorationLoop::Drive ExplorationLoop::driveWaypoints(const exploration::PlanRe
     // [collision] model = footprint: where the planner's circle does not fit,
     // drive the rectangle in the planned yaw, not MRPT's circle.
     const bool narrow = i < plan.waypoint_narrow.size() && plan.waypoint_narrow[i];
-    const auto r = narrow ? driver_->driveFootprint(wps[i], plan.waypoint_yaws[i], final_yaw)
+    // scan_mode = continuous: through the waypoint without stopping; the
+    // scans are taken on the way (onRobotStep).
+    const std::optional<double> pass_tol = continuous ? passTolerance(plan, i) : std::nullopt;
+    const bool pass = pass_tol.has_value();
+    const auto r = narrow ? (pass ? driver_->passFootprint(wps[i], plan.waypoint_yaws[i], *pass_tol)
+                                  : driver_->driveFootprint(wps[i], plan.waypoint_yaws[i], final_yaw))
+                   : pass ? driver_->passBy(wps[i], *pass_tol)
                           : driver_->driveTo(wps[i], final_yaw);
     status_.guard_scaled = driver_->guardScaledCommands();
     status_.guard_held = driver_->guardHeldCommands();
-    scanAndIntegrate();
+    if (!pass || !r.reached()) scanAndIntegrate();  // a drive that did not pass stopped
     if (!r.reached())
     {
       rememberObstacles(r.blocking_points);
@@ -289,6 +297,11 @@ ExplorationLoop::Drive ExplorationLoop::driveWaypoints(const exploration::PlanRe
     {
       path_at_interrupt_ = status_.path_length_m;
       status_.low_obstacle_replans++;
+      if (continuous)  // the next plan starts from a standing robot's scan, as stop-and-scan's
+      {
+        robot_.stop();
+        scanAndIntegrate();
+      }
       message("waypoint " + std::to_string(i + 1) + "/" + std::to_string(wps.size()) +
               ": a low obstacle seen on the rest of the path; replanning");
       return Drive::Interrupted;
@@ -388,9 +401,52 @@ void ExplorationLoop::onRobotStep()
   addSwept(est);
   status_.path_length_m += std::hypot(est.x() - last_estimate_.x(), est.y() - last_estimate_.y());
   last_estimate_ = est;
+  if (params_.scan_mode == ExplorationLoopParams::ScanMode::Continuous && scanDue())
+  {
+    status_.scans_moving++;
+    scanAndIntegrate();
+  }
   if (listener_) listener_->onRobotStep();
   // The limits hold inside a drive too (a drive may last minutes).
   if (auto reason = limitReached(false); !reason.empty()) throw RunStopped{std::move(reason)};
+}
+
+std::optional<double> ExplorationLoop::passTolerance(const exploration::PlanResult& plan,
+                                                     std::size_t i) const
+{
+  const auto& wps = plan.waypoints;
+  if (i + 1 >= wps.size()) return std::nullopt;
+  auto narrowAt = [&](std::size_t k)
+  { return k < plan.waypoint_narrow.size() && plan.waypoint_narrow[k]; };
+  // Circle to circle: MRPT's reactive drive goes on from anywhere near.
+  if (!narrowAt(i)) return narrowAt(i + 1) ? std::nullopt : std::optional(params_.pass_tolerance_m);
+  // From a footprint waypoint (in or at a passage the circle does not fit):
+  // to another, the same yaw (no turn); and a way that bends little, so
+  // that the pass cuts the corner by at most tolerance x sin(bend) (a door
+  // leaves the body 2-5 cm a side).
+  constexpr double kPassBendDeg = 20;
+  const auto& p = driver_->params();
+  if (narrowAt(i + 1) &&
+      (i + 1 >= plan.waypoint_yaws.size() ||
+       std::abs(mrpt::math::wrapToPi(plan.waypoint_yaws[i + 1] - plan.waypoint_yaws[i])) >
+           p.yaw_tolerance))
+    return std::nullopt;
+  const Eigen::Vector2d from = i > 0 ? wps[i - 1] : Eigen::Vector2d(pose_at_stop_.x(), pose_at_stop_.y());
+  const Eigen::Vector2d a = wps[i] - from, b = wps[i + 1] - wps[i];
+  if (a.norm() < 1e-6 || b.norm() < 1e-6) return std::nullopt;
+  const double bend = std::acos(std::clamp(a.dot(b) / (a.norm() * b.norm()), -1.0, 1.0));
+  if (bend > mrpt::DEG2RAD(kPassBendDeg)) return std::nullopt;
+  // One navigation period's travel at most: the drive checks once a period.
+  return std::min(params_.pass_tolerance_m, p.max_v_mps * p.dt_s);
+}
+
+bool ExplorationLoop::scanDue() const
+{
+  if (mrpt::Clock::toDouble(robot_.now()) - t_last_scan_s_ < 1.0 / params_.scan_rate_hz - 1e-9)
+    return false;
+  const mrpt::poses::CPose2D d = robot_.odometry() - odo_at_stop_;
+  return std::hypot(d.x(), d.y()) >= params_.scan_every_m ||
+         std::abs(d.phi()) >= mrpt::DEG2RAD(params_.scan_every_deg);
 }
 
 void ExplorationLoop::message(const std::string& line)

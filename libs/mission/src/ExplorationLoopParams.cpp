@@ -24,6 +24,21 @@ void ExplorationLoopParams::loadFromConfigFile(const mrpt::config::CConfigFileBa
                          "expected auto, true or false");
     low_obstacle_replan = !b ? Switch::Auto : *b ? Switch::On : Switch::Off;
   }
+  if (const std::string v = c.read_string(s, "scan_mode", ""); !v.empty())
+  {
+    common::requireValid(v == "stop_and_scan" || v == "continuous", c, s, "scan_mode",
+                         "expected stop_and_scan or continuous");
+    scan_mode = v == "continuous" ? ScanMode::Continuous : ScanMode::StopAndScan;
+  }
+  MRPT_LOAD_CONFIG_VAR(scan_rate_hz, double, c, s);
+  MRPT_LOAD_CONFIG_VAR(scan_every_m, double, c, s);
+  MRPT_LOAD_CONFIG_VAR(scan_every_deg, double, c, s);
+  MRPT_LOAD_CONFIG_VAR(pass_tolerance_m, double, c, s);
+  common::requireValid(scan_rate_hz > 0 && scan_rate_hz <= 20, c, s, "scan_rate_hz",
+                       "must be in (0, 20] (the O3D100's frame rate)");
+  common::requireValid(scan_every_m >= 0, c, s, "scan_every_m", "must be >= 0");
+  common::requireValid(scan_every_deg >= 0, c, s, "scan_every_deg", "must be >= 0");
+  common::requireValid(pass_tolerance_m > 0, c, s, "pass_tolerance_m", "must be > 0");
   MRPT_LOAD_CONFIG_VAR(stagnation_new_frontier_guard, bool, c, s);
   MRPT_LOAD_CONFIG_VAR(stagnation_steps, int, c, s);
   MRPT_LOAD_CONFIG_VAR(stagnation_min_gain_m2, double, c, s);
@@ -70,6 +85,11 @@ void ExplorationLoopParams::saveToConfigFile(mrpt::config::CConfigFileBase& c,
           low_obstacle_replan == Switch::Auto ? "auto"
           : low_obstacle_replan == Switch::On ? "true"
                                               : "false");
+  c.write(s, "scan_mode", scan_mode == ScanMode::Continuous ? "continuous" : "stop_and_scan");
+  MRPT_SAVE_CONFIG_VAR(scan_rate_hz, c, s);
+  MRPT_SAVE_CONFIG_VAR(scan_every_m, c, s);
+  MRPT_SAVE_CONFIG_VAR(scan_every_deg, c, s);
+  MRPT_SAVE_CONFIG_VAR(pass_tolerance_m, c, s);
   MRPT_SAVE_CONFIG_VAR(stagnation_new_frontier_guard, c, s);
   MRPT_SAVE_CONFIG_VAR(stagnation_steps, c, s);
   MRPT_SAVE_CONFIG_VAR(stagnation_min_gain_m2, c, s);

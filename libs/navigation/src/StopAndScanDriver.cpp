@@ -302,20 +302,46 @@ Ending checkAfterStep(const RobotInterface& robot, const DriverParams& params, D
 DriveResult StopAndScanDriver::driveTo(const Eigen::Vector2d& waypoint,
                                        std::optional<double> final_yaw_rad)
 {
+  return reactiveDrive(waypoint, final_yaw_rad, -1.0);
+}
+
+DriveResult StopAndScanDriver::passBy(const Eigen::Vector2d& waypoint, double tolerance_m)
+{
+  if (!(tolerance_m > 0))
+    throw std::invalid_argument("StopAndScanDriver::passBy: tolerance_m must be > 0");
+  return reactiveDrive(waypoint, std::nullopt, tolerance_m);
+}
+
+DriveResult StopAndScanDriver::reactiveDrive(const Eigen::Vector2d& waypoint,
+                                             std::optional<double> final_yaw_rad,
+                                             double pass_tolerance_m)
+{
   checkClocks(robot_);
-  const DriveResult pre = backOffFootprint();
+  const bool pass = pass_tolerance_m > 0;
+  const double tolerance_m = pass ? pass_tolerance_m : params_.goal_tolerance_m;
+  // A robot still moving from a pass goes on; the back-off is for a stop
+  // left close to a wall (and would stop it).
+  DriveResult pre;  // no steps: prependDrive() leaves the drive as it is
+  pre.outcome = DriveOutcome::Reached;
+  if (!moving()) pre = backOffFootprint();
   if (pre.outcome == DriveOutcome::Error) return pre;
   auto& nav = impl_->nav;
   auto& adapter = impl_->adapter;
   if (nav.getCurrentState() == CAbstractNavigator::NAV_ERROR) nav.resetNavError();
   adapter.resetEvents();
-  adapter.clearCommand();
+  adapter.clearCommand();  // the navigator's first command ramps from the robot's velocity
 
   CAbstractNavigator::TNavigationParams np;
   np.target.target_coords = mrpt::math::TPose2D(waypoint.x(), waypoint.y(), 0.0);
   np.target.targetAllowedDistance = static_cast<float>(params_.goal_tolerance_m);
-  np.target.targetDesiredRelSpeed = 0.0;  // slow down and stop at the target
-  std::optional<NavlogScope> navlog;      // one .reactivenavlog per drive (navlog_dir)
+  // Stop-and-scan: slow down and stop at the target. A pass: no slowing
+  // down (the holonomic method slows down only for 0), and the drive ends
+  // here within tolerance_m, before MRPT would stop the robot at
+  // goal_tolerance_m. (MRPT's own pass, targetIsIntermediaryWaypoint, is
+  // for its waypoint lists: CWaypointsNavigator::checkHasReachedTarget()
+  // never reaches such a target given alone.)
+  np.target.targetDesiredRelSpeed = pass ? 1.0 : 0.0;
+  std::optional<NavlogScope> navlog;  // one .reactivenavlog per drive (navlog_dir)
   navlog.emplace(nav, params_.navlog_dir);
   nav.navigate(&np);
 
@@ -328,6 +354,8 @@ DriveResult StopAndScanDriver::driveTo(const Eigen::Vector2d& waypoint,
       nav.navigationStep();
       const double dist_m = distanceTo(robot_.pose(), waypoint);
       end = navigatorEnding(nav, adapter.events(), dist_m, params_.goal_tolerance_m);
+      if (!end && pass && dist_m <= tolerance_m)
+        end = {{DriveOutcome::Reached, mrpt::format("passed within %.3f m", dist_m)}};
       if (!end) end = targetBlockedEnding(adapter, params_, log, waypoint, dist_m);
     }
     catch (const std::exception& e)
@@ -343,6 +371,16 @@ DriveResult StopAndScanDriver::driveTo(const Eigen::Vector2d& waypoint,
     if (!end) end = guardEnding();
   }
 
+  if (pass && end->first == DriveOutcome::Reached)
+  {
+    // Passed: the robot keeps the last command's velocity for the next
+    // drive, whose navigate() replaces this target (cancel() would stop it).
+    navlog.reset();
+    DriveResult res = passDrive(robot_, log, *end);
+    res.goal_distance_m = distanceTo(res.final_pose, waypoint);
+    prependDrive(pre, res);
+    return res;
+  }
   // Stop in every case: cancel the navigation, zero velocity.
   if (nav.getCurrentState() == CAbstractNavigator::NAVIGATING) nav.cancel();
   if (nav.getCurrentState() == CAbstractNavigator::NAV_ERROR) nav.resetNavError();

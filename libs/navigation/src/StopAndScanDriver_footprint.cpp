@@ -10,6 +10,7 @@
 
 #include <cmath>
 #include <optional>
+#include <stdexcept>
 #include <vector>
 
 #include "FootprintGuard.h"
@@ -50,7 +51,31 @@ std::optional<double> leastSideways(double max_m, const Ok& ok)
 DriveResult StopAndScanDriver::driveFootprint(const Eigen::Vector2d& waypoint, double yaw_rad,
                                               std::optional<double> final_yaw_rad)
 {
-  const DriveResult pre = backOffFootprint();
+  return footprintDrive(waypoint, yaw_rad, final_yaw_rad, -1.0);
+}
+
+DriveResult StopAndScanDriver::passFootprint(const Eigen::Vector2d& waypoint, double yaw_rad,
+                                             double tolerance_m)
+{
+  if (!(tolerance_m > 0))
+    throw std::invalid_argument("StopAndScanDriver::passFootprint: tolerance_m must be > 0");
+  return footprintDrive(waypoint, yaw_rad, std::nullopt, tolerance_m);
+}
+
+bool StopAndScanDriver::moving() const
+{
+  const auto v = robot_.velocity();
+  return v.vx != 0 || v.vy != 0 || v.omega != 0;
+}
+
+DriveResult StopAndScanDriver::footprintDrive(const Eigen::Vector2d& waypoint, double yaw_rad,
+                                              std::optional<double> final_yaw_rad,
+                                              double pass_tolerance_m)
+{
+  const bool pass = pass_tolerance_m > 0;
+  DriveResult pre;  // no steps: prependDrive() leaves the drive as it is
+  pre.outcome = DriveOutcome::Reached;
+  if (!moving()) pre = backOffFootprint();  // a stop left close to a wall; a pass goes on
   if (pre.outcome == DriveOutcome::Error) return pre;
   DriveResult res;
   bool turned = false;
@@ -92,7 +117,8 @@ DriveResult StopAndScanDriver::driveFootprint(const Eigen::Vector2d& waypoint, d
     return {{DriveOutcome::Blocked,
              "a sensed obstacle point lies inside the footprint at the waypoint"}};
   };
-  DriveResult tr = straightDrive(waypoint, yaw_rad, rectangle_at_goal);
+  DriveResult tr = straightDrive(waypoint, yaw_rad, rectangle_at_goal,
+                                 pass ? pass_tolerance_m : -1.0, pass);
   // Blocked at the waypoint by points inside the rectangle there: the map
   // (and the plan on it) may be off by a few centimetres where the body has
   // centimetres to spare, in a door. Centre the waypoint on what the sensors

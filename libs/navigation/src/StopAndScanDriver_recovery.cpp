@@ -43,7 +43,7 @@ DriveResult StopAndScanDriver::driveStraight(const Eigen::Vector2d& waypoint)
 
 DriveResult StopAndScanDriver::straightDrive(const Eigen::Vector2d& waypoint,
                                              std::optional<double> hold_yaw, const WayCheck& way,
-                                             double tolerance_m)
+                                             double tolerance_m, bool pass)
 {
   const double tolerance = tolerance_m >= 0 ? tolerance_m : params_.goal_tolerance_m;
   DriveLog log(robot_, distanceTo(robot_.pose(), waypoint));
@@ -69,7 +69,7 @@ DriveResult StopAndScanDriver::straightDrive(const Eigen::Vector2d& waypoint,
     bandPoints(pts, params_.min_obstacle_height_m, params_.max_obstacle_height_m, band);
     end = way(band, tx, ty, p);
     if (end) break;
-    const double v = std::min(params_.max_v_mps, params_.max_v_mps * d / 0.3);
+    const double v = pass ? params_.max_v_mps : std::min(params_.max_v_mps, params_.max_v_mps * d / 0.3);
     const double w =
         hold_yaw ? std::clamp(params_.yaw_gain * mrpt::math::wrapToPi(*hold_yaw - p.phi()),
                               -params_.max_w, params_.max_w)
@@ -80,6 +80,7 @@ DriveResult StopAndScanDriver::straightDrive(const Eigen::Vector2d& waypoint,
     end = checkAfterStep(robot_, params_, log, waypoint);
     if (!end) end = guardEnding();
   }
+  if (pass && end->first == DriveOutcome::Reached) return passDrive(robot_, log, *end);
   return finishDrive(log, *end);
 }
 

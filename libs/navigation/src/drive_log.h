@@ -91,6 +91,18 @@ inline DriveResult endDrive(RobotInterface& robot, const DriveLog& log,
   return r;
 }
 
+/// The result of a pass (StopAndScanDriver::passBy): like endDrive(), but
+/// the robot keeps moving.
+inline DriveResult passDrive(const RobotInterface& robot, const DriveLog& log,
+                             const std::pair<DriveOutcome, std::string>& end)
+{
+  DriveResult r;
+  r.outcome = end.first;
+  r.message = end.second;
+  log.fill(r, robot);
+  return r;
+}
+
 /// Appends a follow-up drive (`label`: its message prefix) to `r`: its
 /// figures add up, its final pose is the result's; the outcome stays r's.
 inline void appendDrive(DriveResult& r, const DriveResult& next, const std::string& label)

@@ -176,6 +176,29 @@ struct ExplorationLoopParams : public mrpt::config::CLoadableOptions
     Auto
   };
   Switch low_obstacle_replan = Switch::Auto;
+  /// Scanning (issue 15, thesis 6.2). StopAndScan (the thesis, the
+  /// default): the robot stops at every waypoint and scans there.
+  /// Continuous: it drives through the intermediate waypoints of a plan
+  /// without stopping (StopAndScanDriver::passBy; footprint drives through
+  /// narrow passages still turn and stop), and scans while it drives, at
+  /// most scan_rate_hz and only after scan_every_m or scan_every_deg of
+  /// odometry since the last scan; it stops and scans at the plan's last
+  /// waypoint, at a failed drive and at a low obstacle ahead. Each scan is a
+  /// stop for SlamIcp (registered with its odometry). The simulator renders
+  /// a scan at one instant (the eight exposures at the pose of that step).
+  enum class ScanMode
+  {
+    StopAndScan,
+    Continuous
+  };
+  ScanMode scan_mode = ScanMode::StopAndScan;
+  /// Continuous: scans a second at most while driving; the loop looks once a
+  /// robot step ([navigation] dt_s), so 1 / dt_s bounds it too [Hz].
+  double scan_rate_hz = 10;
+  double scan_every_m = 0.5;    ///< continuous: a scan after this much odometry translation [m] ...
+  double scan_every_deg = 30;   ///< ... or this much rotation [deg]
+  /// Continuous: an intermediate waypoint is passed within this distance [m].
+  double pass_tolerance_m = 0.15;
   /// @brief low_obstacle_replan resolved for the planner's collision
   ///        parameters on a map of resolution l_res_m.
   bool lowObstacleReplanInForce(const exploration::CollisionParams& col, double l_res_m) const;
@@ -199,6 +222,7 @@ struct ExplorationStatus
   std::size_t guard_scaled = 0;   ///< velocity commands the driver's footprint guard slowed down
   std::size_t guard_held = 0;     ///< ... of those, the ones it held still
   std::size_t low_obstacle_replans = 0;  ///< drives ended by a low obstacle seen on the way (low_obstacle_replan)
+  std::size_t scans_moving = 0;  ///< scans taken while driving (scan_mode = continuous)
   double path_length_m = 0;       ///< travelled by the pose estimate between stops [m]
   double compute_s = 0;           ///< wall time of SLAM + planning [s]
   double slam_ms_step = 0;        ///< SLAM time of the current step so far [ms]
@@ -314,6 +338,12 @@ class ExplorationLoop
   /// low_obstacle_replan: whether a low obstacle cell not in low_at_plan_
   /// lies within reach of the path from waypoint `from` on.
   bool lowObstacleAhead(const exploration::PlanResult& plan, std::size_t from) const;
+  /// scan_mode = continuous: the tolerance within which waypoint i of the
+  /// plan is passed without stopping; empty when the robot must stop there
+  /// (the last one; a circle waypoint before a footprint one, whose turn
+  /// the planner checked there; a footprint one whose next needs a turn or
+  /// bends the way by more than kPassBendDeg, which a pass would cut).
+  std::optional<double> passTolerance(const exploration::PlanResult& plan, std::size_t i) const;
   /// The low obstacle cells (keys) the current plan was made with.
   void setLowAtPlan(const std::vector<Eigen::Vector2d>& low);
   /// Frontier centre -> count, one entry per blacklist_radius_m.
@@ -349,6 +379,9 @@ class ExplorationLoop
   /// saying what is left; false while the run goes on.
   bool stagnated();
   void onRobotStep();
+  /// scan_mode = continuous: the robot drove or turned enough, and long
+  /// enough ago, since the last scan.
+  bool scanDue() const;
   void message(const std::string& line);
   /// The listener's stop reason, max_steps (only `between_steps`), or the
   /// time limit; empty when the run goes on.
@@ -373,6 +406,7 @@ class ExplorationLoop
   std::unique_ptr<navigation::StopAndScanDriver> driver_;
   mrpt::Clock::time_point t_start_;
   mrpt::poses::CPose2D pose_at_stop_, odo_at_stop_, last_estimate_;
+  double t_last_scan_s_ = -std::numeric_limits<double>::infinity();  ///< robot time of the last scan [s]
   std::vector<Eigen::Vector2d> blacklist_;
   TargetCounts failures_;  ///< failed drives per frontier
   TargetCounts plans_;     ///< plans so far per frontier

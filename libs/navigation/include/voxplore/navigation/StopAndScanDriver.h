@@ -85,6 +85,16 @@ class StopAndScanDriver
   ///         MRPT to its simulated clock).
   DriveResult driveTo(const Eigen::Vector2d& waypoint, std::optional<double> final_yaw_rad);
 
+  /// @brief Scanning while driving ([explore] scan_mode = continuous): drives
+  ///        at an intermediate waypoint as driveTo() does, but without
+  ///        slowing down (MRPT's targetIsIntermediaryWaypoint, desired speed
+  ///        at the target 1), and returns Reached once within `tolerance_m`
+  ///        with the robot still moving, so that the next drive goes on from
+  ///        there. A robot that is moving already (a pass before) is not
+  ///        backed off first. Any other ending stops the robot and runs the
+  ///        fallbacks of driveTo() (straight drive, escape).
+  DriveResult passBy(const Eigen::Vector2d& waypoint, double tolerance_m);
+
   /// @brief Turns in place to `yaw_rad` (P-controller on the yaw error).
   /// @return Reached within yaw_tolerance, Timeout after rotate_timeout_s,
   ///         Error on a collision.
@@ -118,6 +128,15 @@ class StopAndScanDriver
   ///         as in driveTo().
   DriveResult driveFootprint(const Eigen::Vector2d& waypoint, double yaw_rad,
                              std::optional<double> final_yaw_rad = std::nullopt);
+
+  /// @brief driveFootprint() through an intermediate waypoint
+  ///        ([explore] scan_mode = continuous): the turn to `yaw_rad`, when
+  ///        one is needed, is made standing (the planner checked it at the
+  ///        pose before); the translation does not slow down, and the drive
+  ///        returns Reached within `tolerance_m` with the robot still moving
+  ///        (no back-off first while it moves). Any other ending is
+  ///        driveFootprint()'s, standing.
+  DriveResult passFootprint(const Eigen::Vector2d& waypoint, double yaw_rad, double tolerance_m);
 
   /// @brief Recovery of a pinned robot (our own: MRPT's reactive navigator
   ///        stands still for ever once an obstacle point is at its circle):
@@ -167,6 +186,9 @@ class StopAndScanDriver
 
  private:
   struct Impl;
+  /// driveTo() (pass_tolerance_m < 0) and passBy() (the tolerance).
+  DriveResult reactiveDrive(const Eigen::Vector2d& waypoint, std::optional<double> final_yaw_rad,
+                            double pass_tolerance_m);
   /// The footprint guard has held the robot for guard_hold_s.
   bool guardHolding() const;
   /// Blocked when guardHolding().
@@ -182,8 +204,14 @@ class StopAndScanDriver
   /// when given (else not turning), until goal_tolerance_m (or
   /// tolerance_m when >= 0), `way` says stop, or checkAfterStep / the guard
   /// ends it.
+  /// `pass`: no slowing down, and Reached leaves the robot moving.
   DriveResult straightDrive(const Eigen::Vector2d& waypoint, std::optional<double> hold_yaw,
-                            const WayCheck& way, double tolerance_m = -1);
+                            const WayCheck& way, double tolerance_m = -1, bool pass = false);
+  /// driveFootprint() (pass_tolerance_m < 0) and passFootprint().
+  DriveResult footprintDrive(const Eigen::Vector2d& waypoint, double yaw_rad,
+                             std::optional<double> final_yaw_rad, double pass_tolerance_m);
+  /// The robot moves (a pass before left it so).
+  bool moving() const;
   /// The turn to `final_yaw_rad` at a reached waypoint (driveTo(),
   /// driveFootprint()), appended to `res`.
   void turnAtWaypoint(DriveResult& res, std::optional<double> final_yaw_rad);
