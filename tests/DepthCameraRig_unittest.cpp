@@ -3,10 +3,15 @@
 #include <gtest/gtest.h>
 #include <mrpt/maps/CSimplePointsMap.h>
 #include <mrpt/obs/CObservation3DRangeScan.h>
+#include <mrpt/obs/CObservationOdometry.h>
+#include <voxplore/mapping/robot_cloud.h>
 #include <voxplore/sim/DepthCameraRig.h>
+#include <voxplore/sim/Simulator.h>
 #include <voxplore/sim/RayCaster.h>
 
+#include <algorithm>
 #include <cmath>
+#include <iostream>
 
 #include "test_worlds.h"
 
@@ -197,4 +202,68 @@ TEST(DepthCameraRig, SameSeedSameImages)
   const auto sb = rig.scan(f.caster, CPose3D(f.world.start), mrpt::Clock::fromDouble(0), b, true);
   for (std::size_t c = 0; c < sa.size(); c++)
     EXPECT_TRUE(sa[c]->rangeImage == sb[c]->rangeImage);
+}
+
+// Scanning while driving (issue 15): the simulator exposes the cameras one
+// after another from the robot's true pose at each exposure, and
+// mapping::deskewScans() moves each camera back to where the robot was then,
+// from the odometry's velocity; the cloud lands on the walls again.
+TEST(DepthCameraRig, AScanWhileDrivingIsStaggeredAndDeskewedOntoTheWalls)
+{
+  sim::RobotParams robot;
+  robot.motion_noise_rel = 0;  // the velocity the odometry reports is the one executed
+  sim::SimulatorParams sp;
+  sp.sensor_noise = false;
+  sp.camera_stagger_s = 0.05;  // one 20 Hz period per camera: 0.35 s from the first to the last
+  sim::Simulator sim(test::boxRoom(kSx, kSy, kSz, CPose2D(4.0, 3.5, 0.3)), robot,
+                     sim::CameraRigParams{}, sp);
+  const double w = mrpt::DEG2RAD(45.0);
+  for (int i = 0; i < 20; i++) sim.step(0.5, 0.0, w);  // 1 s at full speed, turning
+  const auto stop = sim.scan(true);
+  const auto odo = stop.observations->getObservationByClass<mrpt::obs::CObservationOdometry>();
+  ASSERT_TRUE(odo);
+  ASSERT_TRUE(odo->hasVelocities);
+  EXPECT_NEAR(odo->velocityLocal.vx, 0.5, 1e-3);
+  EXPECT_NEAR(odo->velocityLocal.omega, w, 1e-3);
+  auto scans = mapping::depthScansOf(*stop.observations);
+  ASSERT_EQ(scans.size(), 8u);
+  EXPECT_NEAR(mrpt::Clock::toDouble(odo->timestamp) - mrpt::Clock::toDouble(scans[0]->timestamp),
+              0.35, 1e-6);
+  EXPECT_EQ(scans[7]->timestamp, odo->timestamp);
+
+  // The cloud in the world frame at the stop's true pose: worst distance to the room's walls.
+  const auto worst = [&](const std::vector<mrpt::obs::CObservation3DRangeScan::Ptr>& s)
+  {
+    mapping::CloudParams cp;
+    cp.z_min_m = 0.05;  // keep the walls only
+    const auto cloud = mapping::buildRobotCloud(s, cp);
+    const CPose3D T(stop.T_world_robot_gt);
+    double out = 0;
+    for (std::size_t i = 0; i < cloud.points.size(); i++)
+    {
+      float x, y, z;
+      cloud.points.getPoint(i, x, y, z);
+      double gx, gy, gz;
+      T.composePoint(x, y, z, gx, gy, gz);
+      out = std::max(out, test::distanceToBoxRoom({gx, gy, gz}, kSx, kSy, kSz));
+    }
+    return out;
+  };
+  auto skewed = scans;
+  const double before = worst(skewed);
+  EXPECT_EQ(mapping::deskewScans(scans, *stop.observations), 7u);  // the last one is exposed now
+  const double after = worst(scans);
+  EXPECT_GT(before, 0.3);   // 0.175 m and 15.75 deg behind for the first camera
+  EXPECT_LT(after, 0.01);   // the pose interpolation between 0.05 s steps and the range quantisation
+  std::cout << "[ deskew ] worst distance to the walls: " << before << " m as exposed, " << after
+            << " m deskewed" << std::endl;
+  // The frame's own observations are left as they were (copies were moved).
+  EXPECT_EQ(mapping::depthScansOf(*stop.observations)[0]->sensorPose, sim::CameraRigParams{}.mounts[0]);
+
+  // A standing scan: one time, no velocity, nothing to move.
+  const auto standing = sim.scan(false);
+  auto still = mapping::depthScansOf(*standing.observations);
+  EXPECT_FALSE(standing.observations->getObservationByClass<mrpt::obs::CObservationOdometry>()->hasVelocities);
+  EXPECT_EQ(mapping::deskewScans(still, *standing.observations), 0u);
+  for (const auto& s : still) EXPECT_EQ(s->timestamp, standing.timestamp);
 }

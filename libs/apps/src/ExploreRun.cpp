@@ -23,7 +23,7 @@ ExploreRun::ExploreRun(
       out_dir_(std::move(out_dir)),
       quiet_(quiet),
       robot_(sim),
-      scans_(sim),
+      scans_(sim, &robot_),
       clock_(sim),
       T_world_map_(sim.robot().groundTruth())
 {

@@ -1,6 +1,7 @@
 #include <mrpt/3rdparty/tclap/CmdLine.h>
 #include <mrpt/config/CConfigFileMemory.h>
 #include <mrpt/core/format.h>
+#include <mrpt/obs/CObservationOdometry.h>
 #include <voxplore/apps/ReplayApp.h>
 #include <voxplore/apps/app_common.h>
 #include <voxplore/common/Progress.h>
@@ -188,7 +189,14 @@ ReplaySummary ReplayApp::execute(const ReplayOptions& opts)
                    "motion since the previous stop\n";
       odo = slam.reports().empty() ? mrpt::poses::CPose2D() : slam.reports().back().odometry;
     }
-    const auto rep = slam.processStop(*e.observations, *odo, depth.front()->timestamp);
+    // The stop's time: its odometry reading's, else the last exposure's (a
+    // scan taken while driving exposes its cameras one after another and is
+    // delivered with the odometry at the last one).
+    auto t_stop = depth.front()->timestamp;
+    for (const auto& d : depth) t_stop = std::max(t_stop, d->timestamp);
+    if (const auto o = e.observations->getObservationByClass<mrpt::obs::CObservationOdometry>())
+      t_stop = o->timestamp;
+    const auto rep = slam.processStop(*e.observations, *odo, t_stop);
     for (const auto& w : rep.warnings)
     {
       s.warnings++;

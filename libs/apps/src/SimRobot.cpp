@@ -98,7 +98,13 @@ void SimRobot::step(double dt_s)
 
 mission::Scan SimScanSource::scan()
 {
-  last_ = sim_.scan();
+  bool moving = false;
+  if (robot_)
+  {
+    const auto v = robot_->velocity();
+    moving = v.vx != 0 || v.vy != 0 || v.omega != 0;
+  }
+  last_ = sim_.scan(moving);
   mission::Scan s;
   s.timestamp = last_.timestamp;
   s.odometry = last_.odometry;

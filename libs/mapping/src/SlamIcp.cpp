@@ -334,6 +334,7 @@ StopReport SlamIcp::processStop(
   rep.timestamp = timestamp;
   UsableScans usable;
   checkCameras(sf, rep, usable);
+  if (params_.cloud.deskew) rep.deskewed_cameras = deskewScans(usable.scans, sf);
 
   // A non-finite odometry reading would make every pose NaN: no motion instead.
   CPose2D odometry = odometry_in;

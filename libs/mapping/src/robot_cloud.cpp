@@ -1,4 +1,6 @@
 #include <mrpt/obs/CObservation3DRangeScan.h>
+#include <mrpt/obs/CObservationOdometry.h>
+#include <mrpt/obs/CSensoryFrame.h>
 #include <voxplore/common/config.h>
 #include <voxplore/mapping/robot_cloud.h>
 
@@ -19,6 +21,7 @@ void CloudParams::loadFromConfigFile(const mrpt::config::CConfigFileBase& c, con
   MRPT_LOAD_CONFIG_VAR(max_impossible_share, double, c, s);
   MRPT_LOAD_CONFIG_VAR(tools_cloud_cell_m, double, c, s);
   MRPT_LOAD_CONFIG_VAR(tools_slice_z_m, double, c, s);
+  MRPT_LOAD_CONFIG_VAR(deskew, bool, c, s);
   common::requireValid(z_min_m < z_max_m, c, s, "z_min_m", "need z_min_m < z_max_m");
   common::requireValid(max_range_m > 0, c, s, "max_range_m", "must be positive");
   common::requireValid(max_impossible_share >= 0 && max_impossible_share <= 1, c, s,
@@ -38,6 +41,7 @@ void CloudParams::saveToConfigFile(mrpt::config::CConfigFileBase& c, const std::
   MRPT_SAVE_CONFIG_VAR(max_impossible_share, c, s);
   MRPT_SAVE_CONFIG_VAR(tools_cloud_cell_m, c, s);
   MRPT_SAVE_CONFIG_VAR(tools_slice_z_m, c, s);
+  MRPT_SAVE_CONFIG_VAR(deskew, c, s);
 }
 
 mrpt::obs::CObservation3DRangeScan::Ptr makeToolsCloud(
@@ -255,6 +259,34 @@ UsableScans usableDepthScans(const mrpt::obs::CSensoryFrame& sf, const CloudPara
     out.scans.push_back(clean);
   }
   return out;
+}
+
+mrpt::poses::CPose2D motionOver(const mrpt::math::TTwist2D& v, double tau)
+{
+  const double th = v.omega * tau;
+  if (std::abs(th) < 1e-9) return mrpt::poses::CPose2D(v.vx * tau, v.vy * tau, th);
+  const double s = std::sin(th), c1 = 1.0 - std::cos(th);
+  return mrpt::poses::CPose2D((v.vx * s - v.vy * c1) / v.omega, (v.vx * c1 + v.vy * s) / v.omega,
+                              th);
+}
+
+std::size_t deskewScans(std::vector<mrpt::obs::CObservation3DRangeScan::Ptr>& scans,
+                        const mrpt::obs::CSensoryFrame& sf)
+{
+  const auto odo = sf.getObservationByClass<mrpt::obs::CObservationOdometry>();
+  if (!odo || !odo->hasVelocities) return 0;
+  const double t0 = mrpt::Clock::toDouble(odo->timestamp);
+  std::size_t moved = 0;
+  for (auto& scan : scans)
+  {
+    const double tau = mrpt::Clock::toDouble(scan->timestamp) - t0;
+    if (tau >= 0) continue;
+    auto copy = std::make_shared<mrpt::obs::CObservation3DRangeScan>(*scan);
+    copy->sensorPose = mrpt::poses::CPose3D(motionOver(odo->velocityLocal, tau)) + scan->sensorPose;
+    scan = copy;
+    moved++;
+  }
+  return moved;
 }
 
 RobotCloud buildRobotCloud(

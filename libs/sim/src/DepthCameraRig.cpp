@@ -96,6 +96,18 @@ std::vector<mrpt::obs::CObservation3DRangeScan::Ptr> DepthCameraRig::scan(
     const RayCaster& caster, const CPose3D& T_world_robot, mrpt::Clock::time_point t,
     std::mt19937_64& rng, bool noise) const
 {
+  const auto n = static_cast<std::size_t>(params_.num_cameras);
+  return scan(caster, std::vector<CPose3D>(n, T_world_robot),
+              std::vector<mrpt::Clock::time_point>(n, t), rng, noise);
+}
+
+std::vector<mrpt::obs::CObservation3DRangeScan::Ptr> DepthCameraRig::scan(
+    const RayCaster& caster, const std::vector<CPose3D>& T_world_robot,
+    const std::vector<mrpt::Clock::time_point>& t, std::mt19937_64& rng, bool noise) const
+{
+  if (T_world_robot.size() != static_cast<std::size_t>(params_.num_cameras) ||
+      t.size() != T_world_robot.size())
+    throw std::invalid_argument("DepthCameraRig::scan: one robot pose and one time per camera");
   const int W = params_.width_px, H = params_.height_px;
   const std::size_t n = dirs_cam_.size();
   std::vector<Eigen::Vector3f> dirs_world(n);
@@ -109,7 +121,7 @@ std::vector<mrpt::obs::CObservation3DRangeScan::Ptr> DepthCameraRig::scan(
   std::vector<mrpt::obs::CObservation3DRangeScan::Ptr> out;
   for (int c = 0; c < params_.num_cameras; c++)
   {
-    const CPose3D T_world_cam = T_world_robot + params_.mounts[c];
+    const CPose3D T_world_cam = T_world_robot[c] + params_.mounts[c];
     const Eigen::Matrix3f R = T_world_cam.getRotationMatrix().asEigen().cast<float>();
     const Eigen::Vector3f origin(
         static_cast<float>(T_world_cam.x()), static_cast<float>(T_world_cam.y()),
@@ -122,7 +134,7 @@ std::vector<mrpt::obs::CObservation3DRangeScan::Ptr> DepthCameraRig::scan(
 
     auto obs = mrpt::obs::CObservation3DRangeScan::Create();
     obs->sensorLabel = "CAM" + std::to_string(c);
-    obs->timestamp = t;
+    obs->timestamp = t[c];
     obs->hasRangeImage = true;
     obs->range_is_depth = true;
     obs->rangeUnits = static_cast<float>(units);

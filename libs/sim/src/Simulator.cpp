@@ -5,8 +5,11 @@
 #include <voxplore/common/config.h>
 #include <voxplore/sim/Simulator.h>
 
+#include <algorithm>
 #include <cmath>
+#include <iterator>
 #include <sstream>
+#include <vector>
 
 namespace voxplore::sim
 {
@@ -22,6 +25,7 @@ void SimulatorParams::loadFromConfigFile(
   MRPT_LOAD_CONFIG_VAR(floor_clearance_m, double, c, s);
   MRPT_LOAD_CONFIG_VAR(segment_timeout_s, double, c, s);
   MRPT_LOAD_CONFIG_VAR(sensor_noise, bool, c, s);
+  MRPT_LOAD_CONFIG_VAR(camera_stagger_s, double, c, s);
   MRPT_LOAD_CONFIG_VAR(start_time_s, double, c, s);
   MRPT_LOAD_CONFIG_VAR(seed, int, c, s);
   using common::requireValid;
@@ -31,6 +35,8 @@ void SimulatorParams::loadFromConfigFile(
   requireValid(goal_tolerance_yaw > 0, c, s, "goal_tolerance_yaw", "must be positive");
   requireValid(floor_clearance_m >= 0, c, s, "floor_clearance_m", "must be >= 0");
   requireValid(segment_timeout_s > 0, c, s, "segment_timeout_s", "must be positive");
+  requireValid(camera_stagger_s >= 0 && camera_stagger_s <= 0.1, c, s, "camera_stagger_s",
+               "must be in [0, 0.1] s");
 }
 
 void SimulatorParams::saveToConfigFile(mrpt::config::CConfigFileBase& c, const std::string& s) const
@@ -42,6 +48,7 @@ void SimulatorParams::saveToConfigFile(mrpt::config::CConfigFileBase& c, const s
   MRPT_SAVE_CONFIG_VAR(floor_clearance_m, c, s);
   MRPT_SAVE_CONFIG_VAR(segment_timeout_s, c, s);
   MRPT_SAVE_CONFIG_VAR(sensor_noise, c, s);
+  MRPT_SAVE_CONFIG_VAR(camera_stagger_s, c, s);
   MRPT_SAVE_CONFIG_VAR(start_time_s, c, s);
   MRPT_SAVE_CONFIG_VAR(seed, c, s);
 }
@@ -101,7 +108,25 @@ mrpt::Clock::time_point Simulator::now() const
 OmniRobot::StepResult Simulator::step(double vx_mps, double vy_mps, double w_radps)
 {
   sim_time_s_ += params_.dt_s;
-  return robot_.step(vx_mps, vy_mps, w_radps, params_.dt_s, rng_motion_, checker_.get());
+  const auto r = robot_.step(vx_mps, vy_mps, w_radps, params_.dt_s, rng_motion_, checker_.get());
+  history_.emplace_back(sim_time_s_, robot_.groundTruth());
+  // Enough for eight exposures 0.1 s apart.
+  while (history_.size() > 2 && history_.front().first < sim_time_s_ - 1.0) history_.pop_front();
+  return r;
+}
+
+CPose2D Simulator::trueposeAt(double t) const
+{
+  if (history_.empty() || t >= history_.back().first) return robot_.groundTruth();
+  if (t <= history_.front().first) return history_.front().second;
+  auto hi = std::lower_bound(history_.begin(), history_.end(), t,
+                             [](const auto& e, double v) { return e.first < v; });
+  const auto lo = std::prev(hi);
+  const double a = (t - lo->first) / (hi->first - lo->first);
+  const CPose2D& p = lo->second;
+  const CPose2D& q = hi->second;
+  return CPose2D(p.x() + a * (q.x() - p.x()), p.y() + a * (q.y() - p.y()),
+                 mrpt::math::wrapToPi(p.phi() + a * mrpt::math::wrapToPi(q.phi() - p.phi())));
 }
 
 DriveOutcome Simulator::driveTo(double x, double y, std::optional<double> yaw_rad)
@@ -128,10 +153,11 @@ DriveOutcome Simulator::driveTo(double x, double y, std::optional<double> yaw_ra
   return DriveOutcome::Timeout;
 }
 
-ScanStop Simulator::scan()
+ScanStop Simulator::scan(bool moving)
 {
-  // A scan takes one sensor period (20 Hz) of standing still.
-  sim_time_s_ += 0.05;
+  // A standing scan takes one sensor period (20 Hz) of standing still; a
+  // moving one was exposed while the robot drove up to now.
+  if (!moving) sim_time_s_ += 0.05;
   ScanStop stop;
   stop.index = stops_++;
   stop.timestamp = now();
@@ -150,9 +176,30 @@ ScanStop Simulator::scan()
   odo->sensorLabel = "ODOMETRY";
   odo->timestamp = stop.timestamp;
   odo->odometry = stop.odometry;
+  if (!moving)
+  {
+    stop.observations->insert(odo);
+    const auto scans = rig_.scan(*caster_, mrpt::poses::CPose3D(stop.T_world_robot_gt),
+                                 stop.timestamp, rng_sensor_, params_.sensor_noise);
+    for (const auto& o : scans) stop.observations->insert(o);
+    return stop;
+  }
+  // The velocity the wheels executed over the last step, robot frame.
+  const double dt = params_.dt_s;
+  const CPose2D d = stop.T_world_robot_gt - trueposeAt(sim_time_s_ - dt);
+  odo->hasVelocities = true;
+  odo->velocityLocal = mrpt::math::TTwist2D(d.x() / dt, d.y() / dt, d.phi() / dt);
   stop.observations->insert(odo);
-  const auto scans = rig_.scan(*caster_, mrpt::poses::CPose3D(stop.T_world_robot_gt),
-                               stop.timestamp, rng_sensor_, params_.sensor_noise);
+  const int n = rig_.params().num_cameras;
+  std::vector<mrpt::poses::CPose3D> poses;
+  std::vector<mrpt::Clock::time_point> times;
+  for (int c = 0; c < n; c++)
+  {
+    const double t = sim_time_s_ - (n - 1 - c) * params_.camera_stagger_s;
+    poses.emplace_back(trueposeAt(t));
+    times.push_back(mrpt::Clock::fromDouble(params_.start_time_s + t));
+  }
+  const auto scans = rig_.scan(*caster_, poses, times, rng_sensor_, params_.sensor_noise);
   for (const auto& o : scans) stop.observations->insert(o);
   return stop;
 }

@@ -94,13 +94,19 @@ class SimRobot : public navigation::RobotInterface
 class SimScanSource : public mission::ScanSource
 {
  public:
-  explicit SimScanSource(sim::Simulator& sim) : sim_(sim) {}
+  /// @param robot when given, a scan while its commanded velocity is not
+  ///        zero is a moving one (Simulator::scan(true)).
+  explicit SimScanSource(sim::Simulator& sim, const navigation::RobotInterface* robot = nullptr)
+      : sim_(sim), robot_(robot)
+  {
+  }
   mission::Scan scan() override;
   /// @brief The last stop scan() delivered (index, ground truth, ...).
   const sim::ScanStop& last() const { return last_; }
 
  private:
   sim::Simulator& sim_;
+  const navigation::RobotInterface* robot_;
   sim::ScanStop last_;
 };
 

@@ -76,6 +76,7 @@ struct StopReport
   std::vector<std::string> warnings;       ///< one line per issue, for the user
   std::size_t cloud_points = 0;     ///< |Q| after the floor cut
   std::size_t invalid_pixels = 0;
+  std::size_t deskewed_cameras = 0;  ///< depth images moved to their exposure's pose ([cloud] deskew)
   std::size_t metaview_added = 0;
   std::size_t metaview_size = 0;
   InsertStats octomap;

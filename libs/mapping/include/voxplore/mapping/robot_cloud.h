@@ -7,6 +7,7 @@
 #include <mrpt/obs/CObservation2DRangeScan.h>
 #include <mrpt/obs/CObservation3DRangeScan.h>
 #include <mrpt/obs/CSensoryFrame.h>
+#include <mrpt/math/TTwist2D.h>
 #include <mrpt/poses/CPose2D.h>
 
 #include <string>
@@ -33,6 +34,13 @@ struct CloudParams : public mrpt::config::CLoadableOptions
   /// maps with isPlanarMap = true take nothing else): see makeToolsSlice().
   /// 0: not added [m].
   double tools_slice_z_m = 0.30;
+  /// A camera exposed before the stop's odometry reading (a scan taken
+  /// while driving, [explore] scan_mode = continuous: its timestamp is
+  /// earlier) is moved to where the robot was at its exposure: back along
+  /// the odometry's velocity (CObservationOdometry::velocityLocal, held
+  /// constant) over the time between them (deskewScans()). false = every
+  /// camera at the stop's pose.
+  bool deskew = true;
 
   void loadFromConfigFile(const mrpt::config::CConfigFileBase& c, const std::string& s) override;
   void saveToConfigFile(mrpt::config::CConfigFileBase& c, const std::string& s) const override;
@@ -135,6 +143,21 @@ struct UsableScans
 
 /// @brief checkDepthScan() over every CObservation3DRangeScan of `sf`.
 UsableScans usableDepthScans(const mrpt::obs::CSensoryFrame& sf, const CloudParams& params);
+
+/// @brief The robot's motion over `tau` seconds at the constant robot-frame
+///        velocity `v` (the exact SE(2) exponential; tau < 0: backwards).
+mrpt::poses::CPose2D motionOver(const mrpt::math::TTwist2D& v, double tau);
+
+/// @brief Deskewing a scan taken while driving: every depth image of `scans`
+///        timestamped before the odometry observation of `sf` gets the
+///        sensorPose it had relative to the robot at the odometry's time:
+///        motionOver(velocityLocal, t_camera - t_odometry) + sensorPose.
+///        Those scans are replaced by moved copies (the frame's own stay as
+///        they were). Nothing without a CObservationOdometry that has
+///        velocities.
+/// @return the number of depth images moved
+std::size_t deskewScans(std::vector<mrpt::obs::CObservation3DRangeScan::Ptr>& scans,
+                        const mrpt::obs::CSensoryFrame& sf);
 
 /// @brief Unprojects every depth image into the robot frame (each camera's
 ///        sensorPose applied) and keeps the points above the floor band.

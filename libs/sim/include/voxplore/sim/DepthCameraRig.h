@@ -73,6 +73,14 @@ class DepthCameraRig
       const RayCaster& caster, const mrpt::poses::CPose3D& T_world_robot,
       mrpt::Clock::time_point t, std::mt19937_64& rng, bool noise = true) const;
 
+  /// @brief scan() with each camera exposed at its own robot pose and time
+  ///        (a robot that moves during the exposures): camera c from
+  ///        T_world_robot[c], timestamped t[c]; one entry per camera.
+  /// @throws std::invalid_argument when a vector does not hold num_cameras entries.
+  std::vector<mrpt::obs::CObservation3DRangeScan::Ptr> scan(
+      const RayCaster& caster, const std::vector<mrpt::poses::CPose3D>& T_world_robot,
+      const std::vector<mrpt::Clock::time_point>& t, std::mt19937_64& rng, bool noise = true) const;
+
   /// @brief Per-pixel direction in the camera frame, x component 1 (so the ray
   ///        parameter is the depth), row-major (v * width + u).
   const std::vector<Eigen::Vector3f>& pixelDirections() const { return dirs_cam_; }

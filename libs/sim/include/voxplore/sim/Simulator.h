@@ -11,6 +11,7 @@
 #include <voxplore/sim/Robot.h>
 #include <voxplore/sim/World.h>
 
+#include <deque>
 #include <memory>
 #include <optional>
 #include <random>
@@ -27,6 +28,14 @@ struct SimulatorParams : public mrpt::config::CLoadableOptions
   double floor_clearance_m = 0.03;  ///< geometry below this height is floor (drivable) [m]
   double segment_timeout_s = 120.0; ///< give up a stop point after this long [s]
   bool sensor_noise = true;         ///< Gaussian range noise on the depth images
+  /// A scan taken while the robot moves (Simulator::scan(true)): the cameras
+  /// are exposed one after another, camera c of N this long before camera
+  /// c + 1, the last one when the scan is delivered; each image is rendered
+  /// from the robot's true pose at its own exposure and timestamped then. The
+  /// default puts the eight O3D100 exposures one after another into one
+  /// 20 Hz period (overlapping ToF cameras must not expose at once). A
+  /// standing scan exposes all at once. 0 = all at once [s].
+  double camera_stagger_s = 0.05 / 8;
   double start_time_s = 1.7e9;      ///< simulated clock at start (UNIX seconds)
   int seed = 1;                     ///< seeds every random draw (motion, odometry, sensor noise)
 
@@ -80,7 +89,14 @@ class Simulator
   DriveOutcome driveTo(double x, double y, std::optional<double> yaw_rad);
 
   /// @brief Stops and scans: reads odometry, renders every camera.
-  ScanStop scan();
+  ///        `moving` = false (stop-and-scan): the robot stands one sensor
+  ///        period (0.05 s) and every camera sees it from its pose now.
+  ///        `moving` = true (scanning while driving): no time passes, camera c
+  ///        sees the world from the robot's true pose at its exposure
+  ///        (SimulatorParams::camera_stagger_s), and the odometry observation
+  ///        carries the robot's velocity (CObservationOdometry::velocityLocal,
+  ///        the motion executed over the last simulator step) for deskewing.
+  ScanStop scan(bool moving = false);
 
   const World& world() const { return world_; }
   const RayCaster& caster() const { return *caster_; }
@@ -103,6 +119,11 @@ class Simulator
   double sim_time_s_ = 0;
   std::size_t stops_ = 0;
   mrpt::poses::CPose2D odo_at_last_stop_;
+  /// (sim time, true pose) after each step of the last second or so.
+  std::deque<std::pair<double, mrpt::poses::CPose2D>> history_;
+  /// The true pose at sim time t (linear between the steps of history_;
+  /// the oldest kept, or the pose now, outside it).
+  mrpt::poses::CPose2D trueposeAt(double t) const;
 };
 
 }  // namespace voxplore::sim
