@@ -45,6 +45,26 @@ apps::ExploreOptions options(const std::string& out)
   return o;
 }
 
+std::string slurp(const std::string& file)
+{
+  std::ifstream in(file);
+  EXPECT_TRUE(in.good()) << file;
+  std::stringstream text;
+  text << in.rdbuf();
+  return text.str();
+}
+
+/// `ini` with the line of `key` (documented in it) set to `value`.
+std::string withKey(std::string ini, const std::string& key, const std::string& value)
+{
+  const auto at = ini.find("\n" + key + " ");
+  EXPECT_NE(at, std::string::npos) << "config/explore.ini documents " << key;
+  if (at == std::string::npos) return ini;
+  const auto eol = ini.find('\n', at + 1);
+  ini.replace(at + 1, eol - at - 1, key + " = " + value);
+  return ini;
+}
+
 nlohmann::json readJson(const fs::path& p)
 {
   std::ifstream f(p);
@@ -178,17 +198,8 @@ TEST(Explore, ContinuousScanningExploresTheRoomSoonerAndItsRawlogReplaysToTheSam
   const auto out = outDir("scan_continuous");
   fs::create_directories(out);
   const std::string ini = (fs::path(out).parent_path() / "voxplore_continuous.ini").string();
-  {
-    std::ifstream in(VOXPLORE_SOURCE_DIR "/config/explore.ini");
-    std::stringstream text;
-    text << in.rdbuf();
-    std::string cfg = text.str();
-    const auto at = cfg.find("\nscan_mode ");
-    ASSERT_NE(at, std::string::npos) << "config/explore.ini documents [explore] scan_mode";
-    const auto eol = cfg.find('\n', at + 1);
-    cfg.replace(at + 1, eol - at - 1, "scan_mode = continuous");
-    std::ofstream(ini) << cfg;
-  }
+  std::ofstream(ini) << withKey(slurp(VOXPLORE_SOURCE_DIR "/config/explore.ini"), "scan_mode",
+                               "continuous");
   auto co = options(out);
   co.config = ini;
   co.robot = robot;
@@ -208,6 +219,25 @@ TEST(Explore, ContinuousScanningExploresTheRoomSoonerAndItsRawlogReplaysToTheSam
             << stopping.coverage_2d << "), stops " << s.stops << " of them " << s.scans_moving
             << " moving, ATE " << s.ate_rmse_m << " m, min clearance " << s.min_clearance_m
             << " m" << std::endl;
+
+  // replan_on_the_way: drives whose frontier the scans on the way saw end
+  // there; the room is explored as fully and as safely.
+  {
+    auto ro = options(outDir("scan_continuous_replan"));
+    ro.config = out + "_replan.ini";
+    std::ofstream(ro.config) << withKey(slurp(ini), "replan_on_the_way", "true");
+    ro.robot = robot;
+    const auto rs = apps::ExploreApp{}.execute(ro);
+    EXPECT_EQ(rs.termination_reason, "no frontier");
+    EXPECT_GE(rs.coverage_2d, 0.95);
+    EXPECT_EQ(rs.collisions, 0u);
+    EXPECT_GE(rs.min_clearance_m, 0.02);
+    EXPECT_LT(rs.ate_rmse_m, 0.05);
+    EXPECT_LT(rs.sim_time_s, stopping.sim_time_s);
+    std::cout << "[ continuous, replan on the way ] sim time " << rs.sim_time_s << " s, path "
+              << rs.path_length_m << " m, coverage " << rs.coverage_2d << ", "
+              << rs.targets_seen_on_the_way << " drives ended on the way" << std::endl;
+  }
 
   // The scans taken on the way are ordinary stops of the rawlog: replayed
   // with the run's SLAM sections, they give the run's trajectory.
@@ -232,13 +262,6 @@ TEST(Explore, ContinuousScanningExploresTheRoomSoonerAndItsRawlogReplaysToTheSam
   r.quiet = true;
   const auto rep = apps::ReplayApp{}.execute(r);
   EXPECT_EQ(rep.stops, s.stops);
-  const auto slurp = [](const std::string& f)
-  {
-    std::ifstream in(f);
-    std::stringstream t;
-    t << in.rdbuf();
-    return t.str();
-  };
   const std::string est = slurp(out + "/trajectory_est.tum");
   EXPECT_GT(est.size(), 100u);
   EXPECT_EQ(slurp(out + "/replay/trajectory_est.tum"), est);

@@ -155,6 +155,7 @@ void writeExploreSummary(const ExploreSummary& s, const std::string& path)
     << ",\n  \"guard_held\": " << s.guard_held
     << ",\n  \"low_obstacle_replans\": " << s.low_obstacle_replans
     << ",\n  \"scans_moving\": " << s.scans_moving
+    << ",\n  \"targets_seen_on_the_way\": " << s.targets_seen_on_the_way
     << ",\n  \"path_length_m\": " << s.path_length_m
     << ",\n  \"known_floor_m2\": " << s.known_floor_m2
     << ",\n  \"known_floor_cut_off_m2\": " << s.known_floor_cut_off_m2
@@ -289,6 +290,7 @@ void ExploreRun::finish()
   s_.guard_held = status.guard_held;
   s_.low_obstacle_replans = status.low_obstacle_replans;
   s_.scans_moving = status.scans_moving;
+  s_.targets_seen_on_the_way = status.targets_seen_on_the_way;
   s_.known_floor_m2 = status.known_floor_m2;
   s_.known_floor_cut_off_m2 = status.known_floor_cut_off_m2;
   s_.unobservable_m2 = status.unobservable_m2;

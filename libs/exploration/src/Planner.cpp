@@ -216,15 +216,13 @@ std::string skipSummary(const std::vector<SkipReason>& reasons)
 }
 }  // namespace
 
-PlanResult plan(
-    const octomap::OcTree& V, const CPose2D& robot, const PlannerParams& p,
-    const std::vector<Eigen::Vector2d>& blacklist, uint64_t step,
-    const SweptPath& swept, const std::vector<Eigen::Vector2d>& sensed_obstacles,
-    const std::vector<Eigen::Vector2d>& approach, const std::vector<Eigen::Vector2d>& low_obstacles,
-    ProjectionCache* projection_cache, FrontierLooks* looks)
+PlanResult planLayers(const octomap::OcTree& V, const CPose2D& robot, const PlannerParams& p,
+                      const SweptPath& swept, const std::vector<Eigen::Vector2d>& sensed_obstacles,
+                      const std::vector<Eigen::Vector2d>& low_obstacles,
+                      ProjectionCache* projection_cache, FrontierLooks* looks)
 {
   PlanResult r;
-  mrpt::system::CTicTac total, tic;
+  mrpt::system::CTicTac tic;
   auto ground = std::make_shared<GroundGrid>(
       projectToGround(V, robot, p.projectionInForce(V.getResolution()), swept, projection_cache));
   stampObstacles(*ground, sensed_obstacles, low_obstacles, p.collision.low_obstacles_on_unknown);
@@ -257,6 +255,22 @@ PlanResult plan(
   r.ground = ground;
   r.space = space;
   r.frontiers = fm;
+  return r;
+}
+
+PlanResult plan(
+    const octomap::OcTree& V, const CPose2D& robot, const PlannerParams& p,
+    const std::vector<Eigen::Vector2d>& blacklist, uint64_t step,
+    const SweptPath& swept, const std::vector<Eigen::Vector2d>& sensed_obstacles,
+    const std::vector<Eigen::Vector2d>& approach, const std::vector<Eigen::Vector2d>& low_obstacles,
+    ProjectionCache* projection_cache, FrontierLooks* looks)
+{
+  mrpt::system::CTicTac total, tic;
+  PlanResult r = planLayers(V, robot, p, swept, sensed_obstacles, low_obstacles, projection_cache,
+                            looks);
+  const auto ground = r.ground;
+  const auto space = r.space;
+  const auto fm = r.frontiers;
   tic.Tic();
   auto rooms = std::make_shared<RoomMap>(segmentRooms(*ground, *space, p.rooms));
   r.rooms = rooms;

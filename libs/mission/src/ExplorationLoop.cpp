@@ -104,6 +104,7 @@ const ExplorationStatus& ExplorationLoop::run()
   try
   {
     loop();
+    robot_.stop();  // a plan ended on the way leaves the robot moving (replan_on_the_way)
   }
   catch (RunStopped& stop)  // between two robot steps of a drive
   {
@@ -166,22 +167,18 @@ void ExplorationLoop::loop()
         if (n > 0) approach.push_back(c);
     std::vector<Eigen::Vector2d> low = slam_.octomap().lowObstacles();
     if (listener_)
-      listener_->onPlanInputs(exploration::PlanInputs{slam_.currentPose(), step, blacklist_,
+      listener_->onPlanInputs(exploration::PlanInputs{planPose(), step, blacklist_,
                                                       sensed_obstacles_, low, approach, swept_,
                                                       planner_.projection.region, looks_},
                               slam_.octomap().tree());
-    auto plan = exploration::plan(slam_.octomap().tree(), slam_.currentPose(), planner_,
-                                  blacklist_, step, swept_, sensed_obstacles_, approach, low,
-                                  projectionCache(), looks_.get());
+    auto plan = planNow(step, approach, low);
     if (!plan.ok() && slam_.octomapRebuildPending() > 0)
     {
       // The OctoMap after a loop closure is still being rebuilt over the
       // stops: the end is decided on the corrected map, not the old one.
       slam_.finishMapRebuild();
       low = slam_.octomap().lowObstacles();
-      plan = exploration::plan(slam_.octomap().tree(), slam_.currentPose(), planner_, blacklist_,
-                               step, swept_, sensed_obstacles_, approach, low, projectionCache(),
-                               looks_.get());
+      plan = planNow(step, approach, low);
     }
     setLowAtPlan(low);
     double cut_off_m2 = 0;  // known floor cut off from the robot, when the planner found nothing
@@ -221,6 +218,16 @@ void ExplorationLoop::loop()
       if (it->second > 0) it->second--;
     }
   }
+}
+
+exploration::PlanResult ExplorationLoop::planNow(std::size_t step,
+                                                const std::vector<Eigen::Vector2d>& approach,
+                                                const std::vector<Eigen::Vector2d>& low)
+{
+  checked_at_ = slam_.octomap().revision();
+  return exploration::plan(slam_.octomap().tree(), planPose(), planner_, blacklist_, step,
+                           swept_, sensed_obstacles_, approach, low, projectionCache(),
+                           looks_.get());
 }
 
 void ExplorationLoop::scanAndIntegrate()
@@ -289,6 +296,11 @@ ExplorationLoop::Drive ExplorationLoop::driveWaypoints(const exploration::PlanRe
               "): " + navigation::toString(r.outcome) + ": " + r.message + "; replanning");
       registerFailure(plan.frontier ? plan.frontier->center : wps.back());
       return Drive::Failed;
+    }
+    if (pass && params_.replan_on_the_way && targetSeen(plan))
+    {
+      status_.targets_seen_on_the_way++;
+      return Drive::TargetSeen;  // moving: the next plan's first drive goes on from here
     }
     // Not twice without the robot moving in between: a new plan ended at
     // its first stop, standing, again and again, would never drive.
@@ -409,44 +421,6 @@ void ExplorationLoop::onRobotStep()
   if (listener_) listener_->onRobotStep();
   // The limits hold inside a drive too (a drive may last minutes).
   if (auto reason = limitReached(false); !reason.empty()) throw RunStopped{std::move(reason)};
-}
-
-std::optional<double> ExplorationLoop::passTolerance(const exploration::PlanResult& plan,
-                                                     std::size_t i) const
-{
-  const auto& wps = plan.waypoints;
-  if (i + 1 >= wps.size()) return std::nullopt;
-  auto narrowAt = [&](std::size_t k)
-  { return k < plan.waypoint_narrow.size() && plan.waypoint_narrow[k]; };
-  // Circle to circle: MRPT's reactive drive goes on from anywhere near.
-  if (!narrowAt(i)) return narrowAt(i + 1) ? std::nullopt : std::optional(params_.pass_tolerance_m);
-  // From a footprint waypoint (in or at a passage the circle does not fit):
-  // to another, the same yaw (no turn); and a way that bends little, so
-  // that the pass cuts the corner by at most tolerance x sin(bend) (a door
-  // leaves the body 2-5 cm a side).
-  constexpr double kPassBendDeg = 20;
-  const auto& p = driver_->params();
-  if (narrowAt(i + 1) &&
-      (i + 1 >= plan.waypoint_yaws.size() ||
-       std::abs(mrpt::math::wrapToPi(plan.waypoint_yaws[i + 1] - plan.waypoint_yaws[i])) >
-           p.yaw_tolerance))
-    return std::nullopt;
-  const Eigen::Vector2d from = i > 0 ? wps[i - 1] : Eigen::Vector2d(pose_at_stop_.x(), pose_at_stop_.y());
-  const Eigen::Vector2d a = wps[i] - from, b = wps[i + 1] - wps[i];
-  if (a.norm() < 1e-6 || b.norm() < 1e-6) return std::nullopt;
-  const double bend = std::acos(std::clamp(a.dot(b) / (a.norm() * b.norm()), -1.0, 1.0));
-  if (bend > mrpt::DEG2RAD(kPassBendDeg)) return std::nullopt;
-  // One navigation period's travel at most: the drive checks once a period.
-  return std::min(params_.pass_tolerance_m, p.max_v_mps * p.dt_s);
-}
-
-bool ExplorationLoop::scanDue() const
-{
-  if (mrpt::Clock::toDouble(robot_.now()) - t_last_scan_s_ < 1.0 / params_.scan_rate_hz - 1e-9)
-    return false;
-  const mrpt::poses::CPose2D d = robot_.odometry() - odo_at_stop_;
-  return std::hypot(d.x(), d.y()) >= params_.scan_every_m ||
-         std::abs(d.phi()) >= mrpt::DEG2RAD(params_.scan_every_deg);
 }
 
 void ExplorationLoop::message(const std::string& line)

@@ -74,6 +74,7 @@ struct ExploreSummary
   std::size_t guard_held = 0;      ///< ... and held still
   std::size_t low_obstacle_replans = 0;  ///< drives ended by a low obstacle seen on the way
   std::size_t scans_moving = 0;  ///< scans taken while driving ([explore] scan_mode = continuous)
+  std::size_t targets_seen_on_the_way = 0;  ///< drives ended on the way: their frontier was seen ([explore] replan_on_the_way)
   std::size_t new_frontiers = 0;  ///< frontiers of the last step not near one planned before
   double known_floor_m2 = 0;       ///< free floor known in G at the end [m^2]
   double unobservable_m2 = 0;  ///< open unknown looked at and left unknown at the end ([sampling] retire_looks) [m^2]

@@ -172,6 +172,18 @@ PlanResult plan(
     const std::vector<Eigen::Vector2d>& low_obstacles = {},
     ProjectionCache* projection_cache = nullptr, FrontierLooks* looks = nullptr);
 
+/// @brief plan()'s first stages only: G, the collision (and footprint)
+///        space and the frontiers (PlanResult::ground, space, footprint,
+///        frontiers, retired; done stays None and there is no target). A
+///        few tens of ms where plan() rates views: for checking what is left
+///        while the robot drives ([explore] replan_on_the_way). Arguments as
+///        plan()'s.
+PlanResult planLayers(const octomap::OcTree& V, const mrpt::poses::CPose2D& robot,
+                      const PlannerParams& p, const SweptPath& swept,
+                      const std::vector<Eigen::Vector2d>& sensed_obstacles,
+                      const std::vector<Eigen::Vector2d>& low_obstacles,
+                      ProjectionCache* projection_cache, FrontierLooks* looks);
+
 /// @brief PNG of G with its layers in the thesis' colours (fig. 4.12): free
 ///        white, occupied black, unknown red (brown where retired as looked
 ///        at and left unknown), collision grey, maybe-collision

@@ -199,6 +199,12 @@ struct ExplorationLoopParams : public mrpt::config::CLoadableOptions
   double scan_every_deg = 30;   ///< ... or this much rotation [deg]
   /// Continuous: an intermediate waypoint is passed within this distance [m].
   double pass_tolerance_m = 0.15;
+  /// Continuous: after each waypoint passed with the map changed since the
+  /// plan, plan again from where the robot is; when the plan's frontier is
+  /// gone (no frontier's centre within [sampling] blacklist_radius_m of it:
+  /// the scans on the way have seen it), the drive ends there, moving, and
+  /// the loop takes the new plan. false = drive each plan to its end.
+  bool replan_on_the_way = false;
   /// @brief low_obstacle_replan resolved for the planner's collision
   ///        parameters on a map of resolution l_res_m.
   bool lowObstacleReplanInForce(const exploration::CollisionParams& col, double l_res_m) const;
@@ -223,6 +229,7 @@ struct ExplorationStatus
   std::size_t guard_held = 0;     ///< ... of those, the ones it held still
   std::size_t low_obstacle_replans = 0;  ///< drives ended by a low obstacle seen on the way (low_obstacle_replan)
   std::size_t scans_moving = 0;  ///< scans taken while driving (scan_mode = continuous)
+  std::size_t targets_seen_on_the_way = 0;  ///< drives ended because their frontier was seen (replan_on_the_way)
   double path_length_m = 0;       ///< travelled by the pose estimate between stops [m]
   double compute_s = 0;           ///< wall time of SLAM + planning [s]
   double slam_ms_step = 0;        ///< SLAM time of the current step so far [ms]
@@ -332,6 +339,7 @@ class ExplorationLoop
     Reached,      ///< every waypoint
     Failed,       ///< a waypoint not reached (counted against the target)
     Interrupted,  ///< a low obstacle seen on the way (low_obstacle_replan)
+    TargetSeen,   ///< the plan's frontier seen on the way (replan_on_the_way); the robot moves
   };
   /// The caller replans unless Reached.
   Drive driveWaypoints(const exploration::PlanResult& plan);
@@ -344,6 +352,14 @@ class ExplorationLoop
   /// the planner checked there; a footprint one whose next needs a turn or
   /// bends the way by more than kPassBendDeg, which a pass would cut).
   std::optional<double> passTolerance(const exploration::PlanResult& plan, std::size_t i) const;
+  /// The pose the planner plans from.
+  mrpt::poses::CPose2D planPose() const;
+  /// replan_on_the_way: the plan's frontier is gone from a plan made now.
+  bool targetSeen(const exploration::PlanResult& plan);
+  /// exploration::plan() from the current estimate with the loop's inputs
+  /// (`step` seeds the sampler); the low obstacles it used in `low`.
+  exploration::PlanResult planNow(std::size_t step, const std::vector<Eigen::Vector2d>& approach,
+                                  const std::vector<Eigen::Vector2d>& low);
   /// The low obstacle cells (keys) the current plan was made with.
   void setLowAtPlan(const std::vector<Eigen::Vector2d>& low);
   /// Frontier centre -> count, one entry per blacklist_radius_m.
@@ -407,6 +423,7 @@ class ExplorationLoop
   mrpt::Clock::time_point t_start_;
   mrpt::poses::CPose2D pose_at_stop_, odo_at_stop_, last_estimate_;
   double t_last_scan_s_ = -std::numeric_limits<double>::infinity();  ///< robot time of the last scan [s]
+  mapping::MapRevision checked_at_;  ///< the map's revision at the last plan or targetSeen() check
   std::vector<Eigen::Vector2d> blacklist_;
   TargetCounts failures_;  ///< failed drives per frontier
   TargetCounts plans_;     ///< plans so far per frontier
