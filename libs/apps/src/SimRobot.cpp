@@ -98,13 +98,7 @@ void SimRobot::step(double dt_s)
 
 mission::Scan SimScanSource::scan()
 {
-  bool moving = false;
-  if (robot_)
-  {
-    const auto v = robot_->velocity();
-    moving = v.vx != 0 || v.vy != 0 || v.omega != 0;
-  }
-  last_ = sim_.scan(moving);
+  last_ = sim_.scan(robot_ && navigation::isMoving(*robot_));
   mission::Scan s;
   s.timestamp = last_.timestamp;
   s.odometry = last_.odometry;

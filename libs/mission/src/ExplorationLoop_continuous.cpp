@@ -18,8 +18,7 @@ mrpt::poses::CPose2D ExplorationLoop::planPose() const
 {
   // A robot still moving (a drive ended on the way, replan_on_the_way) is
   // where odometry took it since the last scan; a standing one at that scan.
-  const auto v = robot_.velocity();
-  return v.vx != 0 || v.vy != 0 || v.omega != 0 ? poseEstimate() : slam_.currentPose();
+  return navigation::isMoving(robot_) ? poseEstimate() : slam_.currentPose();
 }
 
 bool ExplorationLoop::targetSeen(const exploration::PlanResult& plan)

@@ -323,7 +323,7 @@ DriveResult StopAndScanDriver::reactiveDrive(const Eigen::Vector2d& waypoint,
   // left close to a wall (and would stop it).
   DriveResult pre;  // no steps: prependDrive() leaves the drive as it is
   pre.outcome = DriveOutcome::Reached;
-  if (!moving()) pre = backOffFootprint();
+  if (!isMoving(robot_)) pre = backOffFootprint();
   if (pre.outcome == DriveOutcome::Error) return pre;
   auto& nav = impl_->nav;
   auto& adapter = impl_->adapter;

@@ -62,12 +62,6 @@ DriveResult StopAndScanDriver::passFootprint(const Eigen::Vector2d& waypoint, do
   return footprintDrive(waypoint, yaw_rad, std::nullopt, tolerance_m);
 }
 
-bool StopAndScanDriver::moving() const
-{
-  const auto v = robot_.velocity();
-  return v.vx != 0 || v.vy != 0 || v.omega != 0;
-}
-
 DriveResult StopAndScanDriver::footprintDrive(const Eigen::Vector2d& waypoint, double yaw_rad,
                                               std::optional<double> final_yaw_rad,
                                               double pass_tolerance_m)
@@ -75,7 +69,7 @@ DriveResult StopAndScanDriver::footprintDrive(const Eigen::Vector2d& waypoint, d
   const bool pass = pass_tolerance_m > 0;
   DriveResult pre;  // no steps: prependDrive() leaves the drive as it is
   pre.outcome = DriveOutcome::Reached;
-  if (!moving()) pre = backOffFootprint();  // a stop left close to a wall; a pass goes on
+  if (!isMoving(robot_)) pre = backOffFootprint();  // a stop left close to a wall; a pass goes on
   if (pre.outcome == DriveOutcome::Error) return pre;
   DriveResult res;
   bool turned = false;

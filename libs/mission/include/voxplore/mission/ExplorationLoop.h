@@ -184,8 +184,9 @@ struct ExplorationLoopParams : public mrpt::config::CLoadableOptions
   /// most scan_rate_hz and only after scan_every_m or scan_every_deg of
   /// odometry since the last scan; it stops and scans at the plan's last
   /// waypoint, at a failed drive and at a low obstacle ahead. Each scan is a
-  /// stop for SlamIcp (registered with its odometry). The simulator renders
-  /// a scan at one instant (the eight exposures at the pose of that step).
+  /// stop for SlamIcp (registered with its odometry and deskewed, [cloud]
+  /// deskew; the simulator exposes the cameras one after another,
+  /// [simulator] camera_stagger_s).
   enum class ScanMode
   {
     StopAndScan,
@@ -200,10 +201,11 @@ struct ExplorationLoopParams : public mrpt::config::CLoadableOptions
   /// Continuous: an intermediate waypoint is passed within this distance [m].
   double pass_tolerance_m = 0.15;
   /// Continuous: after each waypoint passed with the map changed since the
-  /// plan, plan again from where the robot is; when the plan's frontier is
-  /// gone (no frontier's centre within [sampling] blacklist_radius_m of it:
-  /// the scans on the way have seen it), the drive ends there, moving, and
-  /// the loop takes the new plan. false = drive each plan to its end.
+  /// last look, compute the frontiers again from where the robot is
+  /// (exploration::planLayers); when the plan's frontier is gone (no
+  /// frontier's centre within [sampling] blacklist_radius_m of it: the scans
+  /// on the way have seen it), the drive ends there, moving, and the loop
+  /// plans from there. false = drive each plan to its end.
   bool replan_on_the_way = false;
   /// @brief low_obstacle_replan resolved for the planner's collision
   ///        parameters on a map of resolution l_res_m.
@@ -356,8 +358,8 @@ class ExplorationLoop
   mrpt::poses::CPose2D planPose() const;
   /// replan_on_the_way: the plan's frontier is gone from a plan made now.
   bool targetSeen(const exploration::PlanResult& plan);
-  /// exploration::plan() from the current estimate with the loop's inputs
-  /// (`step` seeds the sampler); the low obstacles it used in `low`.
+  /// exploration::plan() from planPose() with the loop's inputs (`step`
+  /// seeds the sampler, `low`: the map's low obstacles).
   exploration::PlanResult planNow(std::size_t step, const std::vector<Eigen::Vector2d>& approach,
                                   const std::vector<Eigen::Vector2d>& low);
   /// The low obstacle cells (keys) the current plan was made with.

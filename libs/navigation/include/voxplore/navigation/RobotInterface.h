@@ -73,4 +73,12 @@ class RobotInterface
   virtual std::optional<std::size_t> collisionCount() const { return std::nullopt; }
 };
 
+/// @brief The robot's velocity() is not zero: a pass left it moving
+///        (scanning while driving), where stop-and-scan always stands.
+inline bool isMoving(const RobotInterface& robot)
+{
+  const auto v = robot.velocity();
+  return v.vx != 0 || v.vy != 0 || v.omega != 0;
+}
+
 }  // namespace voxplore::navigation

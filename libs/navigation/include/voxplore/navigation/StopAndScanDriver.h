@@ -87,8 +87,8 @@ class StopAndScanDriver
 
   /// @brief Scanning while driving ([explore] scan_mode = continuous): drives
   ///        at an intermediate waypoint as driveTo() does, but without
-  ///        slowing down (MRPT's targetIsIntermediaryWaypoint, desired speed
-  ///        at the target 1), and returns Reached once within `tolerance_m`
+  ///        slowing down (desired speed at the target 1), and returns
+  ///        Reached once within `tolerance_m`
   ///        with the robot still moving, so that the next drive goes on from
   ///        there. A robot that is moving already (a pass before) is not
   ///        backed off first. Any other ending stops the robot and runs the
@@ -210,8 +210,6 @@ class StopAndScanDriver
   /// driveFootprint() (pass_tolerance_m < 0) and passFootprint().
   DriveResult footprintDrive(const Eigen::Vector2d& waypoint, double yaw_rad,
                              std::optional<double> final_yaw_rad, double pass_tolerance_m);
-  /// The robot moves (a pass before left it so).
-  bool moving() const;
   /// The turn to `final_yaw_rad` at a reached waypoint (driveTo(),
   /// driveFootprint()), appended to `res`.
   void turnAtWaypoint(DriveResult& res, std::optional<double> final_yaw_rad);
