@@ -5,6 +5,7 @@
 #include <voxplore/exploration/Planner.h>
 #include <voxplore/exploration/footprint.h>
 
+#include <algorithm>
 #include <cmath>
 #include <fstream>
 #include <stdexcept>
@@ -109,18 +110,21 @@ void expectNeverClips(const GroundGrid& g, const Path& path)
   {
     const Eigen::Vector2d a = path.waypoints[k], b = path.waypoints[k + 1];
     const double ya = path.yaws[k], yb = path.yaws[k + 1];
-    // The drive to waypoint k+1 turns to its yaw first, then translates.
+    // The drive to waypoint k+1 turns to its yaw first, then translates; or
+    // (turn_on_way) turns in proportion to the way made.
+    const bool on_way = k + 1 < path.turn_on_way.size() && path.turn_on_way[k + 1];
     const int turns = std::max(1, static_cast<int>(std::ceil(std::abs(yb - ya) / 0.0175)));
-    for (int i = 0; i <= turns; ++i)
+    for (int i = 0; i <= turns && !on_way; ++i)
     {
       const CPose2D p(a.x(), a.y(), ya + (yb - ya) * i / turns);
       ASSERT_FALSE(clipsAWall(g, p)) << "turning at waypoint " << k << " to yaw " << p.phi();
     }
-    const int steps = std::max(1, static_cast<int>(std::ceil((b - a).norm() / 0.01)));
+    const int steps = std::max({1, static_cast<int>(std::ceil((b - a).norm() / 0.01)), on_way ? turns : 1});
     for (int i = 0; i <= steps; ++i)
     {
-      const Eigen::Vector2d q = a + (b - a) * (static_cast<double>(i) / steps);
-      ASSERT_FALSE(clipsAWall(g, CPose2D(q.x(), q.y(), yb)))
+      const double f = static_cast<double>(i) / steps;
+      const Eigen::Vector2d q = a + (b - a) * f;
+      ASSERT_FALSE(clipsAWall(g, CPose2D(q.x(), q.y(), on_way ? ya + (yb - ya) * f : yb)))
           << "on the way to waypoint " << k + 1 << " at (" << q.x() << ", " << q.y() << ")";
     }
   }
@@ -181,6 +185,48 @@ TEST(FootprintSpace, ANinetyCentimetreDoorIsPassedTurnedLengthwise)
   EXPECT_TRUE(crossed);
   ASSERT_TRUE(path->final_yaw);
   EXPECT_NEAR((path->waypoints.back() - Eigen::Vector2d(1.6, 0.0)).norm(), 0.0, 1e-9);
+}
+
+// [path] turn_on_the_way_deg (issue 15): the turns in place of the door
+// case above are made along the translations after them where the turn
+// layer holds every yaw between; the robot then never stops to turn there.
+TEST(FootprintSpace, TurnsOnTheWayReplaceTurnsInPlaceAndNeverClip)
+{
+  GroundGrid g = twoRoomsWithADoor(0.90);
+  const CPose2D start(-1.5, 0.3, M_PI / 2);
+  const Planned pl = footprintSpaceOf(g, start);
+  PathParams in_place;
+  in_place.turn_on_the_way_deg = 0;
+  PathParams on_way;
+  on_way.turn_on_the_way_deg = 150;
+  const auto a = planFootprintPath(pl.cs, pl.fs, start, {1.6, 0.0}, M_PI / 2, in_place);
+  const auto b = planFootprintPath(pl.cs, pl.fs, start, {1.6, 0.0}, M_PI / 2, on_way);
+  ASSERT_TRUE(a && b);
+  const auto turnsInPlace = [](const Path& p)
+  {
+    std::size_t n = 0;
+    for (std::size_t k = 1; k < p.waypoints.size(); ++k)
+      n += (p.waypoints[k] - p.waypoints[k - 1]).norm() < 1e-9 && p.yaws[k] != p.yaws[k - 1];
+    return n;
+  };
+  ASSERT_EQ(b->turn_on_way.size(), b->waypoints.size());
+  const auto merged = std::count(b->turn_on_way.begin(), b->turn_on_way.end(), 1);
+  std::cout << "[ turns ] in place " << turnsInPlace(*a) << " of " << a->waypoints.size()
+            << " waypoints; on the way: in place " << turnsInPlace(*b) << ", on the way " << merged
+            << " of " << b->waypoints.size() << std::endl;
+  EXPECT_GE(turnsInPlace(*a), 1u);
+  EXPECT_GE(merged, 1);
+  EXPECT_LT(turnsInPlace(*b), turnsInPlace(*a));
+  EXPECT_EQ(std::count(a->turn_on_way.begin(), a->turn_on_way.end(), 1), 0);
+  // The same way: the translations are the same (the turns left out).
+  EXPECT_NEAR(a->length_m, b->length_m, 1e-9);
+  expectNeverClips(g, *b);
+  for (std::size_t k = 1; k < b->waypoints.size(); ++k)
+    if (b->turn_on_way[k])
+    {
+      EXPECT_TRUE(b->narrow[k]) << k;
+      EXPECT_GT((b->waypoints[k] - b->waypoints[k - 1]).norm(), 1e-9) << k;
+    }
 }
 
 TEST(FootprintSpace, ASeventyCentimetreDoorIsRefused)

@@ -792,6 +792,34 @@ struct ProbedOmniRob
 };
 }  // namespace
 
+// [path] turn_on_the_way_deg (issue 15): a footprint drive whose turn the
+// planner checked along the way turns while it translates, in proportion
+// to the way made: it reaches the same pose sooner than turning in place
+// first, and keeps 2 cm from the world.
+TEST(StopAndScanDriver, AFootprintDriveTurnsOnTheWayAndArrivesSooner)
+{
+  const mrpt::poses::CPose2D start(1.5, 1.5, 0.0);
+  const Vector2d wp(3.0, 2.5);
+  const double yaw = mrpt::DEG2RAD(60.0);
+  double t[2];
+  for (const bool on_way : {false, true})
+  {
+    ProbedOmniRob rig(twoRoomsWorld(0.90), start);
+    const auto r = rig.driver.driveFootprint(wp, yaw, std::nullopt, on_way);
+    ASSERT_EQ(r.outcome, DriveOutcome::Reached) << on_way << ": " << r.message;
+    const auto gt = rig.simulator.robot().groundTruth();
+    EXPECT_LE(std::hypot(gt.x() - wp.x(), gt.y() - wp.y()), rig.driver.params().goal_tolerance_m + 0.02);
+    EXPECT_LE(std::abs(mrpt::math::wrapToPi(gt.phi() - yaw)), rig.driver.params().yaw_tolerance + mrpt::DEG2RAD(1.0))
+        << on_way;
+    EXPECT_EQ(rig.simulator.robot().collisions(), 0u);
+    EXPECT_EQ(rig.probe.tooClose(), 0u);
+    t[on_way] = r.sim_time_s;
+  }
+  std::cout << "[ turn on the way ] turning in place first " << t[0] << " s, on the way " << t[1]
+            << " s" << std::endl;
+  EXPECT_LT(t[1], t[0] - 0.5);
+}
+
 TEST(StopAndScanDriver, TheOmniRobPassesANinetyCentimetreDoorTurnedLengthwise)
 {
   // The omniRob starts across the door's axis (yaw 90 deg). The planner's

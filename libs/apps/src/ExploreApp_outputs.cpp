@@ -184,6 +184,8 @@ void writeExploreSummary(const ExploreSummary& s, const std::string& path)
     f << (i ? ", " : "") << jsonPose(s.collision_poses[i]);
   f << "],\n  \"ate_rmse_m\": " << s.ate_rmse_m
     << ",\n  \"compute_s\": " << s.compute_s << ",\n  \"sim_time_s\": " << s.sim_time_s
+    << ",\n  \"time_translating_s\": " << s.time_translating_s
+    << ",\n  \"time_turning_s\": " << s.time_turning_s
     << ",\n  \"peak_rss_mb\": " << s.peak_rss_mb << "\n}\n";
 }
 
@@ -290,6 +292,8 @@ void ExploreRun::finish()
   s_.guard_held = status.guard_held;
   s_.low_obstacle_replans = status.low_obstacle_replans;
   s_.scans_moving = status.scans_moving;
+  s_.time_translating_s = status.time_translating_s;
+  s_.time_turning_s = status.time_turning_s;
   s_.targets_seen_on_the_way = status.targets_seen_on_the_way;
   s_.known_floor_m2 = status.known_floor_m2;
   s_.known_floor_cut_off_m2 = status.known_floor_cut_off_m2;

@@ -189,6 +189,7 @@ bool pathToBest(const CPose2D& robot, const PlannerParams& p, std::vector<Candid
     {
       r.waypoint_yaws.assign(r.path->yaws.begin() + first, r.path->yaws.end());
       r.waypoint_narrow.assign(r.path->narrow.begin() + first, r.path->narrow.end());
+      r.waypoint_turn_on_way.assign(r.path->turn_on_way.begin() + first, r.path->turn_on_way.end());
     }
     r.frontier = r.frontiers->frontiers[cand.frontier];
     r.frontier_index = cand.frontier;

@@ -2,6 +2,7 @@
  * states (footprint_search.h) turned into waypoints with the yaw to hold,
  * the thesis' clearance-keeping path (4.5.5). */
 #include <mrpt/core/exceptions.h>
+#include <mrpt/core/bits_math.h>
 #include <mrpt/math/wrap2pi.h>
 #include <voxplore/exploration/footprint.h>
 
@@ -36,6 +37,7 @@ void appendTranslation(Path& path, const SE2Search& s, const Eigen::Vector2d& to
     path.waypoints.push_back(from + (to - from) * (static_cast<double>(k) / pieces));
     path.yaws.push_back(yaw);
     path.narrow.push_back(narrow ? 1 : 0);
+    path.turn_on_way.push_back(0);
     path.length_m += len / pieces;
   }
 }
@@ -53,7 +55,56 @@ void appendTurn(Path& path, const SE2Search& s, double yaw)
     path.waypoints.push_back(at);
     path.yaws.push_back(from + (yaw - from) * (static_cast<double>(k) / pieces));
     path.narrow.push_back(narrow ? 1 : 0);
+    path.turn_on_way.push_back(0);
   }
+}
+
+/// Does the rectangle keep the turn margin ([collision]
+/// footprint_turn_margin_m, FootprintSpace::clear_turn: every yaw of a bin)
+/// at every yaw from yaw0 to yaw1 (unwrapped: that way round) all along a-b?
+bool turnsAlong(const SE2Search& s, const FootprintSpace& fs, const Eigen::Vector2d& a,
+                const Eigen::Vector2d& b, double yaw0, double yaw1)
+{
+  const int steps = static_cast<int>(std::lround(std::abs(yaw1 - yaw0) / fs.binWidth()));
+  const int dir = yaw1 >= yaw0 ? 1 : -1;
+  const int b0 = fs.binOf(yaw0);
+  YawMask need = 0;
+  for (int k = 0; k <= steps && k < fs.bins; ++k)
+    need |= YawMask(1) << (((b0 + dir * k) % fs.bins + fs.bins) % fs.bins);
+  return s.everySample(a, b, [&](std::size_t i) { return (fs.clear_turn.data()[i] & need) == need; });
+}
+
+/// Turns in place of at most max_rad followed by a translation in a narrow
+/// passage (a footprint drive) are made on that translation instead, where
+/// turnsAlong() holds: the drive turns while it translates and does not
+/// stop (PathParams::turn_on_the_way_deg). Our own: the SE(2) search plans
+/// turns in place only.
+void turnOnTheWay(Path& path, const SE2Search& s, const FootprintSpace& fs, double max_rad)
+{
+  Path out = path;
+  out.waypoints.assign(1, path.waypoints[0]);
+  out.yaws.assign(1, path.yaws[0]);
+  out.narrow.assign(1, path.narrow[0]);
+  out.turn_on_way.assign(1, 0);
+  const auto& w = path.waypoints;
+  std::size_t k = 1;
+  while (k < w.size())
+  {
+    // Waypoints k..m turn in place at w[k - 1]; m + 1 translates from there.
+    std::size_t m = k;
+    while (m < w.size() && (w[m] - w[k - 1]).norm() < 1e-9) ++m;
+    const bool merge = m > k && m < w.size() && path.narrow[m] &&
+                       path.yaws[m] == path.yaws[m - 1] &&
+                       std::abs(path.yaws[m - 1] - path.yaws[k - 1]) <= max_rad &&
+                       turnsAlong(s, fs, w[k - 1], w[m], path.yaws[k - 1], path.yaws[m - 1]);
+    if (merge) k = m;  // drop the turns; w[m] turns on the way
+    out.waypoints.push_back(w[k]);
+    out.yaws.push_back(path.yaws[k]);
+    out.narrow.push_back(path.narrow[k]);
+    out.turn_on_way.push_back(merge ? 1 : 0);
+    ++k;
+  }
+  path = std::move(out);
 }
 
 /// The half turn of yaw `y` nearest `ref`.
@@ -119,6 +170,7 @@ std::optional<Path> planFootprintPath(
   double yaw = nearestRepresentative(fs.binYaw(s_bin), start.phi());
   path.yaws.push_back(yaw);
   path.narrow.push_back(0);
+  path.turn_on_way.push_back(0);
   std::size_t i = 0;
   while (i < states.size())
   {
@@ -189,7 +241,10 @@ std::optional<Path> planFootprintPath(
     path.waypoints.push_back(goal);
     path.yaws.push_back(yaw);
     path.narrow.push_back(search.narrowSegment(start_xy, goal) ? 1 : 0);
+    path.turn_on_way.push_back(0);
   }
+  if (p.turn_on_the_way_deg > 0 && path.waypoints.size() > 2)
+    turnOnTheWay(path, search, fs, mrpt::DEG2RAD(p.turn_on_the_way_deg));
   double m = std::numeric_limits<double>::infinity();
   for (const auto& c : path.cells_path)
   {

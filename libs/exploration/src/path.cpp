@@ -203,12 +203,16 @@ void PathParams::loadFromConfigFile(const mrpt::config::CConfigFileBase& c, cons
   MRPT_LOAD_CONFIG_VAR(shortcut_margin_m, double, c, s);
   MRPT_LOAD_CONFIG_VAR(max_segment_m, double, c, s);
   MRPT_LOAD_CONFIG_VAR(footprint_heuristic_weight, double, c, s);
+  turn_on_the_way_deg =
+      common::readNumberOrWord(c, s, "turn_on_the_way_deg", turn_on_the_way_deg, "auto", -1.0);
   using common::requireValid;
   requireValid(clearance_weight >= 0, c, s, "clearance_weight", "must be >= 0");
   requireValid(clearance_ref_m > 0, c, s, "clearance_ref_m", "must be > 0");
   requireValid(shortcut_margin_m >= 0, c, s, "shortcut_margin_m", "must be >= 0");
   requireValid(max_segment_m > 0, c, s, "max_segment_m", "must be > 0");
   requireValid(footprint_heuristic_weight >= 1, c, s, "footprint_heuristic_weight", "must be >= 1");
+  requireValid(turn_on_the_way_deg == -1.0 || (turn_on_the_way_deg >= 0 && turn_on_the_way_deg <= 180),
+               c, s, "turn_on_the_way_deg", "must be auto or in [0, 180]");
 }
 
 void PathParams::saveToConfigFile(mrpt::config::CConfigFileBase& c, const std::string& s) const
@@ -218,6 +222,7 @@ void PathParams::saveToConfigFile(mrpt::config::CConfigFileBase& c, const std::s
   MRPT_SAVE_CONFIG_VAR(shortcut_margin_m, c, s);
   MRPT_SAVE_CONFIG_VAR(max_segment_m, c, s);
   MRPT_SAVE_CONFIG_VAR(footprint_heuristic_weight, c, s);
+  c.write(s, "turn_on_the_way_deg", common::numberOrWord(turn_on_the_way_deg, "auto", -1.0));
 }
 
 std::optional<Path> planPath(const CollisionSpace& cs, const Eigen::Vector2d& start,

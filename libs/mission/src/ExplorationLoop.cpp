@@ -20,6 +20,7 @@ namespace voxplore::mission
 {
 namespace
 {
+constexpr double kAutoTurnOnTheWayDeg = 150;  // [path] turn_on_the_way_deg auto, continuous (< 180: the way round stays the planned one)
 /// Thrown from a robot step to end the run there (mid-drive): a listener's
 /// stop reason or the time limit. Not a std::exception, so that no error
 /// handler on the way mistakes it for a failure.
@@ -89,6 +90,10 @@ ExplorationLoop::ExplorationLoop(
       odo_at_stop_(robot.odometry()),
       low_replan_(params.lowObstacleReplanInForce(planner.collision, slam.octomap.l_res_m))
 {
+  // [path] turn_on_the_way_deg auto: on when scanning while driving.
+  if (planner_.path.turn_on_the_way_deg < 0)
+    planner_.path.turn_on_the_way_deg =
+        params.scan_mode == ExplorationLoopParams::ScanMode::Continuous ? kAutoTurnOnTheWayDeg : 0.0;
 }
 
 ExplorationLoop::~ExplorationLoop() = default;
@@ -244,6 +249,7 @@ void ExplorationLoop::scanAndIntegrate()
   pose_at_stop_ = rep.pose;
   odo_at_stop_ = robot_.odometry();
   t_last_scan_s_ = mrpt::Clock::toDouble(robot_.now());
+  t_last_step_s_ = t_last_scan_s_;
   last_estimate_ = rep.pose;
   if (rep.loop.closed)
   {
@@ -280,8 +286,9 @@ ExplorationLoop::Drive ExplorationLoop::driveWaypoints(const exploration::PlanRe
     // scans are taken on the way (onRobotStep).
     const std::optional<double> pass_tol = continuous ? passTolerance(plan, i) : std::nullopt;
     const bool pass = pass_tol.has_value();
-    const auto r = narrow ? (pass ? driver_->passFootprint(wps[i], plan.waypoint_yaws[i], *pass_tol)
-                                  : driver_->driveFootprint(wps[i], plan.waypoint_yaws[i], final_yaw))
+    const bool turn = i < plan.waypoint_turn_on_way.size() && plan.waypoint_turn_on_way[i];
+    const auto r = narrow ? (pass ? driver_->passFootprint(wps[i], plan.waypoint_yaws[i], *pass_tol, turn)
+                                  : driver_->driveFootprint(wps[i], plan.waypoint_yaws[i], final_yaw, turn))
                    : pass ? driver_->passBy(wps[i], *pass_tol)
                           : driver_->driveTo(wps[i], final_yaw);
     status_.guard_scaled = driver_->guardScaledCommands();
@@ -413,6 +420,17 @@ void ExplorationLoop::onRobotStep()
   addSwept(est);
   status_.path_length_m += std::hypot(est.x() - last_estimate_.x(), est.y() - last_estimate_.y());
   last_estimate_ = est;
+  {
+    // Where the mission time goes: the velocity held over the step just made.
+    const double now = mrpt::Clock::toDouble(robot_.now());
+    const double dt = std::isnan(t_last_step_s_) ? 0.0 : now - t_last_step_s_;
+    t_last_step_s_ = now;
+    const auto v = robot_.velocity();
+    if (std::hypot(v.vx, v.vy) > 1e-3)
+      status_.time_translating_s += dt;
+    else if (std::abs(v.omega) > 1e-3)
+      status_.time_turning_s += dt;
+  }
   if (params_.scan_mode == ExplorationLoopParams::ScanMode::Continuous && scanDue())
   {
     status_.scans_moving++;

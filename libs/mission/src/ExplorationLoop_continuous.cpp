@@ -47,12 +47,14 @@ std::optional<double> ExplorationLoop::passTolerance(const exploration::PlanResu
   // Circle to circle: MRPT's reactive drive goes on from anywhere near.
   if (!narrowAt(i)) return narrowAt(i + 1) ? std::nullopt : std::optional(params_.pass_tolerance_m);
   // From a footprint waypoint (in or at a passage the circle does not fit):
-  // to another, the same yaw (no turn); and a way that bends little, so
+  // to another, the same yaw or a turn on the way there (no turn in place);
+  // and a way that bends little, so
   // that the pass cuts the corner by at most tolerance x sin(bend) (a door
   // leaves the body 2-5 cm a side).
   constexpr double kPassBendDeg = 20;
   const auto& p = driver_->params();
-  if (narrowAt(i + 1) &&
+  const bool turn_next = i + 1 < plan.waypoint_turn_on_way.size() && plan.waypoint_turn_on_way[i + 1];
+  if (narrowAt(i + 1) && !turn_next &&
       (i + 1 >= plan.waypoint_yaws.size() ||
        std::abs(mrpt::math::wrapToPi(plan.waypoint_yaws[i + 1] - plan.waypoint_yaws[i])) >
            p.yaw_tolerance))

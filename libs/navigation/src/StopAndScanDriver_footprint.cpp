@@ -49,22 +49,23 @@ std::optional<double> leastSideways(double max_m, const Ok& ok)
 }  // namespace
 
 DriveResult StopAndScanDriver::driveFootprint(const Eigen::Vector2d& waypoint, double yaw_rad,
-                                              std::optional<double> final_yaw_rad)
+                                              std::optional<double> final_yaw_rad,
+                                              bool turn_on_way)
 {
-  return footprintDrive(waypoint, yaw_rad, final_yaw_rad, -1.0);
+  return footprintDrive(waypoint, yaw_rad, final_yaw_rad, -1.0, turn_on_way);
 }
 
 DriveResult StopAndScanDriver::passFootprint(const Eigen::Vector2d& waypoint, double yaw_rad,
-                                             double tolerance_m)
+                                             double tolerance_m, bool turn_on_way)
 {
   if (!(tolerance_m > 0))
     throw std::invalid_argument("StopAndScanDriver::passFootprint: tolerance_m must be > 0");
-  return footprintDrive(waypoint, yaw_rad, std::nullopt, tolerance_m);
+  return footprintDrive(waypoint, yaw_rad, std::nullopt, tolerance_m, turn_on_way);
 }
 
 DriveResult StopAndScanDriver::footprintDrive(const Eigen::Vector2d& waypoint, double yaw_rad,
                                               std::optional<double> final_yaw_rad,
-                                              double pass_tolerance_m)
+                                              double pass_tolerance_m, bool turn_on_way)
 {
   const bool pass = pass_tolerance_m > 0;
   DriveResult pre;  // no steps: prependDrive() leaves the drive as it is
@@ -73,7 +74,12 @@ DriveResult StopAndScanDriver::footprintDrive(const Eigen::Vector2d& waypoint, d
   if (pre.outcome == DriveOutcome::Error) return pre;
   DriveResult res;
   bool turned = false;
-  if (std::abs(mrpt::math::wrapToPi(yaw_rad - robot_.pose().phi())) > params_.yaw_tolerance)
+  // A turn the planner checked along the way is made there, unless the
+  // robot is (about) at the waypoint already.
+  turn_on_way = turn_on_way && distanceTo(robot_.pose(), waypoint) >
+                                   (pass ? pass_tolerance_m : params_.goal_tolerance_m);
+  if (!turn_on_way &&
+      std::abs(mrpt::math::wrapToPi(yaw_rad - robot_.pose().phi())) > params_.yaw_tolerance)
   {
     res = rotateTo(yaw_rad);
     turned = true;
@@ -112,7 +118,7 @@ DriveResult StopAndScanDriver::footprintDrive(const Eigen::Vector2d& waypoint, d
              "a sensed obstacle point lies inside the footprint at the waypoint"}};
   };
   DriveResult tr = straightDrive(waypoint, yaw_rad, rectangle_at_goal,
-                                 pass ? pass_tolerance_m : -1.0, pass);
+                                 pass ? pass_tolerance_m : -1.0, pass, turn_on_way);
   // Blocked at the waypoint by points inside the rectangle there: the map
   // (and the plan on it) may be off by a few centimetres where the body has
   // centimetres to spare, in a door. Centre the waypoint on what the sensors

@@ -43,10 +43,21 @@ DriveResult StopAndScanDriver::driveStraight(const Eigen::Vector2d& waypoint)
 
 DriveResult StopAndScanDriver::straightDrive(const Eigen::Vector2d& waypoint,
                                              std::optional<double> hold_yaw, const WayCheck& way,
-                                             double tolerance_m, bool pass)
+                                             double tolerance_m, bool pass, bool turn_on_way)
 {
   const double tolerance = tolerance_m >= 0 ? tolerance_m : params_.goal_tolerance_m;
-  DriveLog log(robot_, distanceTo(robot_.pose(), waypoint));
+  const CPose2D start = robot_.pose();
+  const double way_m = distanceTo(start, waypoint);
+  // turn_on_way: the yaw goes from the start's to hold_yaw in proportion to
+  // the way made, fed forward, and the speed leaves the turn 20 % of max_w
+  // to catch up.
+  const double turn = turn_on_way && hold_yaw && way_m > tolerance
+                          ? mrpt::math::wrapToPi(*hold_yaw - start.phi())
+                          : 0.0;
+  const double turn_per_m = turn / std::max(way_m, 1e-9);
+  const double v_turn =
+      turn != 0 ? 0.8 * params_.max_w / std::abs(turn_per_m) : params_.max_v_mps;
+  DriveLog log(robot_, way_m);
   mrpt::maps::CSimplePointsMap pts;
   std::vector<Eigen::Vector2d> band;
   Ending end;
@@ -69,11 +80,16 @@ DriveResult StopAndScanDriver::straightDrive(const Eigen::Vector2d& waypoint,
     bandPoints(pts, params_.min_obstacle_height_m, params_.max_obstacle_height_m, band);
     end = way(band, tx, ty, p);
     if (end) break;
-    const double v = pass ? params_.max_v_mps : std::min(params_.max_v_mps, params_.max_v_mps * d / 0.3);
-    const double w =
-        hold_yaw ? std::clamp(params_.yaw_gain * mrpt::math::wrapToPi(*hold_yaw - p.phi()),
-                              -params_.max_w, params_.max_w)
-                 : 0.0;
+    const double v = std::min(
+        v_turn, pass ? params_.max_v_mps : std::min(params_.max_v_mps, params_.max_v_mps * d / 0.3));
+    double w = 0;
+    if (hold_yaw)
+    {
+      const double made = std::clamp(1.0 - d / std::max(way_m, 1e-9), 0.0, 1.0);
+      const double want = turn != 0 ? start.phi() + turn * made : *hold_yaw;
+      w = std::clamp(turn_per_m * v + params_.yaw_gain * mrpt::math::wrapToPi(want - p.phi()),
+                     -params_.max_w, params_.max_w);
+    }
     robot_.setVelocity(v * tx / d, v * ty / d, w);
     robot_.step(params_.dt_s);
     log.afterStep(robot_);

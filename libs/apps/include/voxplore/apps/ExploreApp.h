@@ -82,6 +82,8 @@ struct ExploreSummary
   /// Frontiers left at the end (map frame): centre x, y and length [m].
   std::vector<std::array<double, 3>> frontiers_left;
   double path_length_m = 0;        ///< ground-truth distance travelled [m]
+  double time_translating_s = 0;   ///< mission time spent translating [s]
+  double time_turning_s = 0;       ///< ... and turning in place; the rest the robot stood [s]
   double coverage_2d = 0;          ///< share of the GT free floor the robot's footprint reaches or sees (floor_reachable_m2) that the map knows as free
   double coverage_2d_planner_circle = 0;  ///< the same share of the floor the planner's collision circle (r_coll + sqrt(2) l_res) reaches
   double coverage_3d = 0;          ///< share of GT surface voxels in the band seen occupied

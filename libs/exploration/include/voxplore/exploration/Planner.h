@@ -102,6 +102,7 @@ struct PlanResult
   /// does not fit on that way (drive the rectangle, not MRPT's circle).
   std::vector<double> waypoint_yaws;
   std::vector<uint8_t> waypoint_narrow;
+  std::vector<uint8_t> waypoint_turn_on_way;  ///< Path::turn_on_way, one per waypoint
   mrpt::poses::CPose2D target;         ///< pose to reach (yaw at the frontier)
   std::optional<Frontier> frontier;    ///< the chosen frontier
   std::size_t frontier_index = 0;      ///< its index in frontiers->frontiers

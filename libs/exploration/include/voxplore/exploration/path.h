@@ -24,6 +24,13 @@ struct PathParams : public mrpt::config::CLoadableOptions
   /// optimum's slack (0.65 M states, 0.46 s for 61 m on a 1,000 m^2 map);
   /// w = 1.1: 12 k states, 7 ms, path cost +0.1 %. 1 = optimal.
   double footprint_heuristic_weight = 1.1;
+  /// Footprint paths: a turn in place of at most this much, before a
+  /// translation, is made on that translation instead (Path::turn_on_way)
+  /// where the rectangle keeps the turn margin at every yaw between along it
+  /// (scanning while driving, issue 15: turns in place took a quarter of a
+  /// continuous run's time). 0 = off; < 0 (auto, "auto" in the ini) = off
+  /// here, resolved by the exploration loop by its scan mode [deg].
+  double turn_on_the_way_deg = -1;
   /// @brief A* cost per metre at a cell with this clearance [m]:
   ///        1 + clearance_weight * max(0, clearance_ref - clearance) / clearance_ref.
   double costFactor(double clearance_m) const;
@@ -43,6 +50,9 @@ struct Path
   /// the planner's circle does not fit on that way (drive the rectangle).
   std::vector<double> yaws;
   std::vector<uint8_t> narrow;
+  /// 1 where the robot turns from the previous waypoint's yaw to this one's
+  /// on the way to it, not in place first (PathParams::turn_on_the_way_deg).
+  std::vector<uint8_t> turn_on_way;
   std::optional<double> final_yaw;  ///< Footprint: the yaw to turn to at the goal [rad]
 };
 

@@ -233,6 +233,8 @@ struct ExplorationStatus
   std::size_t scans_moving = 0;  ///< scans taken while driving (scan_mode = continuous)
   std::size_t targets_seen_on_the_way = 0;  ///< drives ended because their frontier was seen (replan_on_the_way)
   double path_length_m = 0;       ///< travelled by the pose estimate between stops [m]
+  double time_translating_s = 0;  ///< robot time translating (any speed) [s]
+  double time_turning_s = 0;      ///< ... turning in place; the rest it stood (scans, stops) [s]
   double compute_s = 0;           ///< wall time of SLAM + planning [s]
   double slam_ms_step = 0;        ///< SLAM time of the current step so far [ms]
   double elapsed_s = 0;           ///< Clock time since run() started [s]
@@ -425,6 +427,7 @@ class ExplorationLoop
   mrpt::Clock::time_point t_start_;
   mrpt::poses::CPose2D pose_at_stop_, odo_at_stop_, last_estimate_;
   double t_last_scan_s_ = -std::numeric_limits<double>::infinity();  ///< robot time of the last scan [s]
+  double t_last_step_s_ = std::numeric_limits<double>::quiet_NaN();  ///< robot time onRobotStep() or a scan last saw [s]
   mapping::MapRevision checked_at_;  ///< the map's revision at the last plan or targetSeen() check
   std::vector<Eigen::Vector2d> blacklist_;
   TargetCounts failures_;  ///< failed drives per frontier

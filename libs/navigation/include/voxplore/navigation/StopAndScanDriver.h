@@ -126,8 +126,13 @@ class StopAndScanDriver
   ///         not reach the yaw ends the drive with its outcome. With
   ///         `final_yaw_rad`, a reached waypoint is followed by the turn to it
   ///         as in driveTo().
+  /// @param turn_on_way The planner checked the turn along the way
+  ///        (exploration::Path::turn_on_way): no turn in place first; the yaw
+  ///        goes to `yaw_rad` as the robot translates, in proportion to the
+  ///        way made.
   DriveResult driveFootprint(const Eigen::Vector2d& waypoint, double yaw_rad,
-                             std::optional<double> final_yaw_rad = std::nullopt);
+                             std::optional<double> final_yaw_rad = std::nullopt,
+                             bool turn_on_way = false);
 
   /// @brief driveFootprint() through an intermediate waypoint
   ///        ([explore] scan_mode = continuous): the turn to `yaw_rad`, when
@@ -135,8 +140,9 @@ class StopAndScanDriver
   ///        pose before); the translation does not slow down, and the drive
   ///        returns Reached within `tolerance_m` with the robot still moving
   ///        (no back-off first while it moves). Any other ending is
-  ///        driveFootprint()'s, standing.
-  DriveResult passFootprint(const Eigen::Vector2d& waypoint, double yaw_rad, double tolerance_m);
+  ///        driveFootprint()'s, standing. `turn_on_way` as driveFootprint().
+  DriveResult passFootprint(const Eigen::Vector2d& waypoint, double yaw_rad, double tolerance_m,
+                            bool turn_on_way = false);
 
   /// @brief Recovery of a pinned robot (our own: MRPT's reactive navigator
   ///        stands still for ever once an obstacle point is at its circle):
@@ -205,11 +211,15 @@ class StopAndScanDriver
   /// tolerance_m when >= 0), `way` says stop, or checkAfterStep / the guard
   /// ends it.
   /// `pass`: no slowing down, and Reached leaves the robot moving.
+  /// `turn_on_way`: turn from the yaw at the start to `hold_yaw` in
+  /// proportion to the way made (no faster than 0.8 max_w allows).
   DriveResult straightDrive(const Eigen::Vector2d& waypoint, std::optional<double> hold_yaw,
-                            const WayCheck& way, double tolerance_m = -1, bool pass = false);
+                            const WayCheck& way, double tolerance_m = -1, bool pass = false,
+                            bool turn_on_way = false);
   /// driveFootprint() (pass_tolerance_m < 0) and passFootprint().
   DriveResult footprintDrive(const Eigen::Vector2d& waypoint, double yaw_rad,
-                             std::optional<double> final_yaw_rad, double pass_tolerance_m);
+                             std::optional<double> final_yaw_rad, double pass_tolerance_m,
+                             bool turn_on_way);
   /// The turn to `final_yaw_rad` at a reached waypoint (driveTo(),
   /// driveFootprint()), appended to `res`.
   void turnAtWaypoint(DriveResult& res, std::optional<double> final_yaw_rad);
