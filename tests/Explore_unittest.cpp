@@ -65,6 +65,23 @@ std::string withKey(std::string ini, const std::string& key, const std::string& 
   return ini;
 }
 
+/// The SLAM sections of an explore ini (what voxplore-replay takes).
+std::string slamSections(const std::string& ini)
+{
+  std::istringstream in(ini);
+  std::string out;
+  bool keep = false;
+  for (std::string line; std::getline(in, line);)
+  {
+    if (!line.empty() && line[0] == '[')
+      keep = line.rfind("[cloud]", 0) == 0 || line.rfind("[metaview]", 0) == 0 ||
+             line.rfind("[icp]", 0) == 0 || line.rfind("[octomap]", 0) == 0 ||
+             line.rfind("[loop_closure]", 0) == 0;
+    if (keep) out += line + '\n';
+  }
+  return out;
+}
+
 nlohmann::json readJson(const fs::path& p)
 {
   std::ifstream f(p);
@@ -242,19 +259,7 @@ TEST(Explore, ContinuousScanningExploresTheRoomSoonerAndItsRawlogReplaysToTheSam
   // The scans taken on the way are ordinary stops of the rawlog: replayed
   // with the run's SLAM sections, they give the run's trajectory.
   const std::string slam_ini = out + "_slam.ini";
-  {
-    std::ifstream in(ini);
-    std::ofstream o(slam_ini);
-    bool keep = false;
-    for (std::string line; std::getline(in, line);)
-    {
-      if (!line.empty() && line[0] == '[')
-        keep = line.rfind("[cloud]", 0) == 0 || line.rfind("[metaview]", 0) == 0 ||
-               line.rfind("[icp]", 0) == 0 || line.rfind("[octomap]", 0) == 0 ||
-               line.rfind("[loop_closure]", 0) == 0;
-      if (keep) o << line << '\n';
-    }
-  }
+  std::ofstream(slam_ini) << slamSections(slurp(ini));
   apps::ReplayOptions r;
   r.config = slam_ini;
   r.rawlog = out + "/run.rawlog";
@@ -265,6 +270,52 @@ TEST(Explore, ContinuousScanningExploresTheRoomSoonerAndItsRawlogReplaysToTheSam
   const std::string est = slurp(out + "/trajectory_est.tum");
   EXPECT_GT(est.size(), 100u);
   EXPECT_EQ(slurp(out + "/replay/trajectory_est.tum"), est);
+}
+
+// scan_latency_s (issue 15): the scans taken while driving are integrated
+// on a worker thread and their results taken 0.3 s of robot time later, the
+// robot driving on odometry meanwhile. The run is the same twice (where a
+// result is taken does not depend on the thread), explores the room as well
+// and as safely, and its rawlog replays to its trajectory.
+TEST(Explore, ScansIntegratedBesideTheDrivingGiveTheSameRunTwiceAndReplay)
+{
+  std::string ini = withKey(slurp(VOXPLORE_SOURCE_DIR "/config/explore.ini"), "scan_mode", "continuous");
+  ini = withKey(withKey(ini, "replan_on_the_way", "true"), "scan_latency_s", "0.3");
+  std::vector<std::string> trajectories;
+  apps::ExploreSummary s;
+  std::string out;
+  for (const char* name : {"scan_beside_a", "scan_beside_b"})
+  {
+    out = outDir(name);
+    fs::create_directories(out);
+    auto o = options(out);
+    o.config = out + "/../" + name + ".ini";
+    std::ofstream(o.config) << ini;
+    o.robot = "compact";
+    s = apps::ExploreApp{}.execute(o);
+    trajectories.push_back(slurp(out + "/trajectory_est.tum"));
+  }
+  EXPECT_EQ(trajectories[0], trajectories[1]);
+  EXPECT_EQ(s.termination_reason, "no frontier");
+  EXPECT_GE(s.coverage_2d, 0.95);
+  EXPECT_EQ(s.collisions, 0u);
+  EXPECT_GE(s.min_clearance_m, 0.02);
+  EXPECT_LT(s.ate_rmse_m, 0.05);
+  EXPECT_GT(s.scans_moving, s.stops / 4) << s.stops << " stops";
+  std::cout << "[ scans beside the driving ] sim time " << s.sim_time_s << " s, coverage "
+            << s.coverage_2d << ", stops " << s.stops << " (" << s.scans_moving
+            << " moving), ATE " << s.ate_rmse_m << " m, min clearance " << s.min_clearance_m
+            << " m" << std::endl;
+
+  apps::ReplayOptions r;
+  r.config = out + "_slam.ini";
+  std::ofstream(r.config) << slamSections(ini);
+  r.rawlog = out + "/run.rawlog";
+  r.out_dir = out + "/replay";
+  r.quiet = true;
+  const auto rep = apps::ReplayApp{}.execute(r);
+  EXPECT_EQ(rep.stops, s.stops);
+  EXPECT_EQ(slurp(out + "/replay/trajectory_est.tum"), trajectories[1]);
 }
 
 TEST(Explore, SameSeedGivesTheSameSummary)

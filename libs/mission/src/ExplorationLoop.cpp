@@ -9,6 +9,8 @@
 #include <voxplore/mission/ExplorationLoop.h>
 #include <voxplore/navigation/StopAndScanDriver.h>
 
+#include "pending_scan.h"
+
 #include <algorithm>
 #include <cmath>
 #include <iterator>
@@ -116,6 +118,7 @@ const ExplorationStatus& ExplorationLoop::run()
     robot_.stop();
     status_.termination_reason = std::move(stop.reason);
   }
+  settleScan();  // a scan integrated beside the driving is in the outputs too
   slam_.finishMapRebuild();  // whatever ended the run, slam() holds the corrected OctoMap
   status_.elapsed_s = elapsedSeconds();
   return status_;
@@ -156,6 +159,7 @@ void ExplorationLoop::loop()
   scanAndIntegrate();
   for (std::size_t step = 0;; step++)
   {
+    settleScan();  // the planner reads the map
     if (auto reason = limitReached(true); !reason.empty())
     {
       status_.termination_reason = std::move(reason);
@@ -235,41 +239,6 @@ exploration::PlanResult ExplorationLoop::planNow(std::size_t step,
                            looks_.get());
 }
 
-void ExplorationLoop::scanAndIntegrate()
-{
-  const Scan scan = scans_.scan();
-  if (!scan.observations)
-    throw std::runtime_error("ExplorationLoop: the scan source delivered no observations");
-  if (listener_) listener_->onScan(scan);
-  mrpt::system::CTicTac tic;
-  const auto rep = slam_.processStop(*scan.observations, scan.odometry, scan.timestamp);
-  const double dt = tic.Tac();
-  status_.compute_s += dt;
-  status_.slam_ms_step += dt * 1e3;
-  pose_at_stop_ = rep.pose;
-  odo_at_stop_ = robot_.odometry();
-  t_last_scan_s_ = mrpt::Clock::toDouble(robot_.now());
-  t_last_step_s_ = t_last_scan_s_;
-  last_estimate_ = rep.pose;
-  if (rep.loop.closed)
-  {
-    // The poses so far were corrected: the swept path follows them.
-    swept_.clear();
-    for (const auto& r : slam_.reports()) addSwept(r.pose);
-    message("stop " + std::to_string(rep.index) + ": " + rep.loop.message +
-            (rep.loop.rebuilt ? mrpt::format("; maps corrected in %.0f ms (OctoMap: %zu keyframes "
-                                             "left to re-insert over the next stops)",
-                                             rep.loop.t_rebuild_ms, rep.octomap_rebuild_left)
-                              : std::string()));
-  }
-  addSwept(rep.pose);
-  // A stop whose scan is in the map, every camera used, looked at what it saw.
-  if (rep.integrated && std::none_of(rep.camera_issues.begin(), rep.camera_issues.end(),
-                                     [](const mapping::CameraIssue& c) { return c.skipped; }))
-    looks_->addStop(rep.pose);
-  if (listener_) listener_->onStop(scan, rep);
-}
-
 ExplorationLoop::Drive ExplorationLoop::driveWaypoints(const exploration::PlanResult& plan)
 {
   const auto& wps = plan.waypoints;
@@ -291,6 +260,7 @@ ExplorationLoop::Drive ExplorationLoop::driveWaypoints(const exploration::PlanRe
                                   : driver_->driveFootprint(wps[i], plan.waypoint_yaws[i], final_yaw, turn))
                    : pass ? driver_->passBy(wps[i], *pass_tol)
                           : driver_->driveTo(wps[i], final_yaw);
+    settleScan();  // the checks below read the map
     status_.guard_scaled = driver_->guardScaledCommands();
     status_.guard_held = driver_->guardHeldCommands();
     if (!pass || !r.reached()) scanAndIntegrate();  // a drive that did not pass stopped
@@ -431,10 +401,11 @@ void ExplorationLoop::onRobotStep()
     else if (std::abs(v.omega) > 1e-3)
       status_.time_turning_s += dt;
   }
+  if (pendingDue()) settleScan();
   if (params_.scan_mode == ExplorationLoopParams::ScanMode::Continuous && scanDue())
   {
     status_.scans_moving++;
-    scanAndIntegrate();
+    scanAndIntegrate(true);
   }
   if (listener_) listener_->onRobotStep();
   // The limits hold inside a drive too (a drive may last minutes).

@@ -35,6 +35,9 @@ void ExplorationLoopParams::loadFromConfigFile(const mrpt::config::CConfigFileBa
   MRPT_LOAD_CONFIG_VAR(scan_every_deg, double, c, s);
   MRPT_LOAD_CONFIG_VAR(pass_tolerance_m, double, c, s);
   MRPT_LOAD_CONFIG_VAR(replan_on_the_way, bool, c, s);
+  MRPT_LOAD_CONFIG_VAR(scan_latency_s, double, c, s);
+  common::requireValid(scan_latency_s >= 0 && scan_latency_s <= 5, c, s, "scan_latency_s",
+                       "must be in [0, 5] [s]");
   common::requireValid(scan_rate_hz > 0 && scan_rate_hz <= 20, c, s, "scan_rate_hz",
                        "must be in (0, 20] (the O3D100's frame rate)");
   common::requireValid(scan_every_m >= 0, c, s, "scan_every_m", "must be >= 0");
@@ -92,6 +95,7 @@ void ExplorationLoopParams::saveToConfigFile(mrpt::config::CConfigFileBase& c,
   MRPT_SAVE_CONFIG_VAR(scan_every_deg, c, s);
   MRPT_SAVE_CONFIG_VAR(pass_tolerance_m, c, s);
   MRPT_SAVE_CONFIG_VAR(replan_on_the_way, c, s);
+  MRPT_SAVE_CONFIG_VAR(scan_latency_s, c, s);
   MRPT_SAVE_CONFIG_VAR(stagnation_new_frontier_guard, c, s);
   MRPT_SAVE_CONFIG_VAR(stagnation_steps, c, s);
   MRPT_SAVE_CONFIG_VAR(stagnation_min_gain_m2, c, s);

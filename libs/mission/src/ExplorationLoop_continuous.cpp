@@ -1,4 +1,5 @@
-// The exploration loop's scanning while driving ([explore] scan_mode =
+// The exploration loop's scans (SlamIcp at once, or beside the driving:
+// scan_latency_s) and its scanning while driving ([explore] scan_mode =
 // continuous, issue 15): which waypoints are passed without stopping, when
 // a scan is due on the way, and whether the scans on the way have seen the
 // plan's frontier (replan_on_the_way). Split from ExplorationLoop.cpp. Our
@@ -8,12 +9,94 @@
 #include <voxplore/mission/ExplorationLoop.h>
 #include <voxplore/navigation/StopAndScanDriver.h>
 
+#include "pending_scan.h"
+
+#include <mrpt/core/format.h>
+#include <mrpt/system/CTicTac.h>
+
 #include <algorithm>
 #include <cmath>
 #include <optional>
+#include <stdexcept>
+#include <utility>
 
 namespace voxplore::mission
 {
+void ExplorationLoop::scanAndIntegrate(bool beside)
+{
+  settleScan();  // SlamIcp integrates one stop after the other
+  const Scan scan = scans_.scan();
+  if (!scan.observations)
+    throw std::runtime_error("ExplorationLoop: the scan source delivered no observations");
+  if (listener_) listener_->onScan(scan);
+  const mrpt::poses::CPose2D odo = robot_.odometry();
+  odo_at_scan_ = odo;
+  t_last_scan_s_ = mrpt::Clock::toDouble(robot_.now());
+  t_last_step_s_ = t_last_scan_s_;
+  if (beside && params_.scan_latency_s > 0)
+  {
+    // Nothing else touches slam_ until settleScan() (the loop settles before
+    // every read of the map); the scan's observations are the worker's.
+    pending_ = std::make_unique<PendingScan>();
+    pending_->scan = scan;
+    pending_->odometry = odo;
+    pending_->t_s = t_last_scan_s_;
+    pending_->result = std::async(std::launch::async, [this, scan]() {
+      mrpt::system::CTicTac tic;
+      auto rep = slam_.processStop(*scan.observations, scan.odometry, scan.timestamp);
+      return std::make_pair(std::move(rep), tic.Tac());
+    });
+    return;
+  }
+  mrpt::system::CTicTac tic;
+  const auto rep = slam_.processStop(*scan.observations, scan.odometry, scan.timestamp);
+  applyScan(scan, rep, tic.Tac(), odo);
+}
+
+bool ExplorationLoop::pendingDue() const
+{
+  return pending_ &&
+         mrpt::Clock::toDouble(robot_.now()) >= pending_->t_s + params_.scan_latency_s - 1e-9;
+}
+
+void ExplorationLoop::settleScan()
+{
+  if (!pending_) return;
+  const std::unique_ptr<PendingScan> p = std::move(pending_);
+  const auto [rep, compute_s] = p->result.get();  // a worker's exception comes out here
+  applyScan(p->scan, rep, compute_s, p->odometry);
+}
+
+void ExplorationLoop::applyScan(const Scan& scan, const mapping::StopReport& rep,
+                                double compute_s, const mrpt::poses::CPose2D& odometry)
+{
+  status_.compute_s += compute_s;
+  status_.slam_ms_step += compute_s * 1e3;
+  pose_at_stop_ = rep.pose;
+  odo_at_stop_ = odometry;
+  // Taken late, the robot has driven on since the scan: the estimate from here.
+  const bool late = !(robot_.odometry() == odometry);
+  last_estimate_ = late ? poseEstimate() : rep.pose;
+  if (rep.loop.closed)
+  {
+    // The poses so far were corrected: the swept path follows them.
+    swept_.clear();
+    for (const auto& r : slam_.reports()) addSwept(r.pose);
+    message("stop " + std::to_string(rep.index) + ": " + rep.loop.message +
+            (rep.loop.rebuilt ? mrpt::format("; maps corrected in %.0f ms (OctoMap: %zu keyframes "
+                                             "left to re-insert over the next stops)",
+                                             rep.loop.t_rebuild_ms, rep.octomap_rebuild_left)
+                              : std::string()));
+  }
+  addSwept(rep.pose);
+  if (late) addSwept(last_estimate_);
+  // A stop whose scan is in the map, every camera used, looked at what it saw.
+  if (rep.integrated && std::none_of(rep.camera_issues.begin(), rep.camera_issues.end(),
+                                     [](const mapping::CameraIssue& c) { return c.skipped; }))
+    looks_->addStop(rep.pose);
+  if (listener_) listener_->onStop(scan, rep);
+}
+
 mrpt::poses::CPose2D ExplorationLoop::planPose() const
 {
   // A robot still moving (a drive ended on the way, replan_on_the_way) is
@@ -72,7 +155,7 @@ bool ExplorationLoop::scanDue() const
 {
   if (mrpt::Clock::toDouble(robot_.now()) - t_last_scan_s_ < 1.0 / params_.scan_rate_hz - 1e-9)
     return false;
-  const mrpt::poses::CPose2D d = robot_.odometry() - odo_at_stop_;
+  const mrpt::poses::CPose2D d = robot_.odometry() - odo_at_scan_;
   return std::hypot(d.x(), d.y()) >= params_.scan_every_m ||
          std::abs(d.phi()) >= mrpt::DEG2RAD(params_.scan_every_deg);
 }

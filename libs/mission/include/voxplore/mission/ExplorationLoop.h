@@ -27,6 +27,7 @@
 #include <voxplore/exploration/Planner.h>
 #include <voxplore/exploration/plan_inputs.h>
 #include <voxplore/mapping/SlamIcp.h>
+#include <voxplore/mission/ExplorationLoopParams.h>
 #include <voxplore/navigation/DriverParams.h>
 #include <voxplore/navigation/RobotInterface.h>
 
@@ -87,132 +88,6 @@ class SystemClock : public Clock
 {
  public:
   mrpt::Clock::time_point now() const override { return mrpt::Clock::now(); }
-};
-
-/// @brief Limits and target bookkeeping of the loop. ini section [explore]
-///        (apps::ExploreParams adds the simulator's evaluation keys there).
-struct ExplorationLoopParams : public mrpt::config::CLoadableOptions
-{
-  int max_steps = 500;              ///< planning steps before giving up ("max_steps"; a safety net)
-  /// Seconds of the Clock before giving up ("max_sim_time"), also inside a
-  /// drive; the key keeps its name from the simulator [s]
-  double max_sim_time_s = 3600.0;
-  int max_failures_per_target = 2;  ///< failed drives towards one frontier before it is blacklisted
-  int max_plans_per_target = 0;     ///< plans for one frontier before it is blacklisted; 0 = no limit (a frontier explored a little at every step, e.g. down a corridor, is planned many times)
-  double min_progress_m = 0.05;     ///< a step that moves the robot less than this counts as a failed drive [m]
-  /// Next-best-view, and the nearest strategy's view stand-off (footprint
-  /// model): a frontier planned before (max_plans_per_target > 0 counts
-  /// plans) is approached at its next plan: the target is its nearest
-  /// reachable cell, not a view 1-3 m off (exploration::plan's `approach`).
-  bool approach_replanned = true;
-  /// Stagnation (issue 12): the run ends ("stagnation") when the free floor
-  /// known in G grew by less than stagnation_min_gain_m2 over the last
-  /// stagnation_steps planning steps (frontier slivers no pose clears, seen
-  /// again and again); 0 = never.
-  int stagnation_steps = 0;  ///< off by default: 20 cut b13 nbv (omniRob) from 0.843 to 0.594
-  double stagnation_min_gain_m2 = 2.0;  ///< [m^2]
-  /// Stagnation over the path (issue 12): the run ends ("stagnation") when
-  /// the free floor known in G grew by less than stagnation_path_min_gain_m2
-  /// while the robot drove the last stagnation_path_m metres. A window of
-  /// metres, not steps: a robot failing at a door or a small world never
-  /// fills it, and a long drive to an unexplored wing is shorter than it.
-  /// 100 m / 5 m^2 cut b10 compact footprint nearest from 0.978 to 0.889
-  /// (133 m of frontier slivers before the last room), 150 m / 5 m^2 b6
-  /// compact circle nearest from 0.941 to 0.911 (264 m for 7 m^2 before
-  /// its last room); 0 = never [m].
-  double stagnation_path_m = 200;
-  double stagnation_path_min_gain_m2 = 3.0;  ///< [m^2]
-  /// Stagnation (either rule) ends a run only when no frontier left is new:
-  /// each lies within [sampling] blacklist_radius_m of a frontier planned
-  /// before. A room never targeted yet (b10 compact nearest's last room
-  /// behind 133 m of slivers, b6 compact circle's behind 264 m) keeps the
-  /// run going. false = the window alone. Off: judged offline on 35 runs
-  /// (stagnation_offline.py --guard) it took away the one bad cut of a
-  /// 100 m / 5 m^2 window (b2 compact nearest 0.984 -> 0.913) and nearly
-  /// all its savings (path -6.8 % -> -0.7 %): frontier centres move as
-  /// frontiers shrink, and a sliver planned before looks new.
-  bool stagnation_new_frontier_guard = false;
-  /// The tail (issue 12's "real end"): the run ends ("only small pockets
-  /// left") when the free floor known in G grew by less than
-  /// tail_min_gain_m2 while the robot drove the last tail_path_m metres and
-  /// every frontier left borders only closed pockets of open unknown, each
-  /// under tail_pocket_m2 (Frontier::unknown_m2: under a desk, beside a
-  /// cabinet). A room not entered yet is a large or open pocket and keeps
-  /// the run going, where a window of metres alone cut it (100 m / 5 m^2:
-  /// b10 compact nearest 0.978 -> 0.889). 0 = off [m].
-  double tail_path_m = 40;
-  double tail_min_gain_m2 = 3.0;  ///< [m^2]
-  double tail_pocket_m2 = 4.0;    ///< [m^2]
-  /// Shut in (issue 12): when the planner finds nothing to do while at least
-  /// this much known free floor, and more than half of it, is cut off from
-  /// the robot (exploration::cutOffFloorM2), it plans once more trusting the swept
-  /// path ([collision] swept_passage) and without the sensed points in the
-  /// way (they are forgotten when that plan succeeds: the driver senses
-  /// again what is really there). A door narrowed by drift, or by points
-  /// sensed in it, shut the compact robot in a room and ended the run "no
-  /// frontier" with most of the known building beyond it (b5, b9). 0 = off
-  /// [m^2].
-  double cut_off_replan_m2 = 20;
-  /// Low obstacles on the way: at every stop of a drive, low obstacle
-  /// cells ([octomap] low_obstacle_*) the map did not hold when the path
-  /// was planned and the planner would stamp (exploration::stampObstacles'
-  /// rule on the plan's G), closer to the rest of the path than the robot's
-  /// circumradius plus the footprint margin (marginInForce) and half a cell's diagonal, end
-  /// the drive, and the loop plans again (not a failure, not a plan of the
-  /// target counted; not twice without the robot moving min_progress_m in
-  /// between). The cameras see no floor within ~0.9 m of their rim:
-  /// a table's 5 cm base plate seen on the approach is out of their view,
-  /// and the guard's, when the body reaches it (turtlebot3_house, compact
-  /// footprint, nearest: a collision planned before the plate was seen).
-  /// Off = drive the plan to its end. Auto (the default, ini "auto"): on
-  /// where the planner plans with the footprint and exact margins
-  /// (CollisionParams::footprintTrimmed false: the compact robot), off
-  /// elsewhere: on the omniRob's buildings it ended 28 drives a run and
-  /// cost b5 nearest 0.980 -> 0.949 (twenty-fifth session).
-  enum class Switch
-  {
-    Off,
-    On,
-    Auto
-  };
-  Switch low_obstacle_replan = Switch::Auto;
-  /// Scanning (issue 15, thesis 6.2). StopAndScan (the thesis, the
-  /// default): the robot stops at every waypoint and scans there.
-  /// Continuous: it drives through the intermediate waypoints of a plan
-  /// without stopping (StopAndScanDriver::passBy; footprint drives through
-  /// narrow passages still turn and stop), and scans while it drives, at
-  /// most scan_rate_hz and only after scan_every_m or scan_every_deg of
-  /// odometry since the last scan; it stops and scans at the plan's last
-  /// waypoint, at a failed drive and at a low obstacle ahead. Each scan is a
-  /// stop for SlamIcp (registered with its odometry and deskewed, [cloud]
-  /// deskew; the simulator exposes the cameras one after another,
-  /// [simulator] camera_stagger_s).
-  enum class ScanMode
-  {
-    StopAndScan,
-    Continuous
-  };
-  ScanMode scan_mode = ScanMode::StopAndScan;
-  /// Continuous: scans a second at most while driving; the loop looks once a
-  /// robot step ([navigation] dt_s), so 1 / dt_s bounds it too [Hz].
-  double scan_rate_hz = 10;
-  double scan_every_m = 0.5;    ///< continuous: a scan after this much odometry translation [m] ...
-  double scan_every_deg = 30;   ///< ... or this much rotation [deg]
-  /// Continuous: an intermediate waypoint is passed within this distance [m].
-  double pass_tolerance_m = 0.15;
-  /// Continuous: after each waypoint passed with the map changed since the
-  /// last look, compute the frontiers again from where the robot is
-  /// (exploration::planLayers); when the plan's frontier is gone (no
-  /// frontier's centre within [sampling] blacklist_radius_m of it: the scans
-  /// on the way have seen it), the drive ends there, moving, and the loop
-  /// plans from there. false = drive each plan to its end.
-  bool replan_on_the_way = false;
-  /// @brief low_obstacle_replan resolved for the planner's collision
-  ///        parameters on a map of resolution l_res_m.
-  bool lowObstacleReplanInForce(const exploration::CollisionParams& col, double l_res_m) const;
-
-  void loadFromConfigFile(const mrpt::config::CConfigFileBase& c, const std::string& s) override;
-  void saveToConfigFile(mrpt::config::CConfigFileBase& c, const std::string& s) const override;
 };
 
 /// @brief The loop's state after each step, and its end.
@@ -337,7 +212,17 @@ class ExplorationLoop
  private:
   class PosedRobot;
   void loop();
-  void scanAndIntegrate();
+  /// Takes a scan; SlamIcp integrates it at once, or (`beside`, with
+  /// scan_latency_s > 0) on a worker thread, its result taken by settleScan().
+  void scanAndIntegrate(bool beside = false);
+  /// The result of the scan being integrated beside the driving, if any,
+  /// waited for and taken into the loop (pose, swept path, looks, listener).
+  void settleScan();
+  void applyScan(const Scan& scan, const mapping::StopReport& rep, double compute_s,
+                 const mrpt::poses::CPose2D& odometry);
+  /// The scan integrated beside the driving is due (scan_latency_s after it).
+  bool pendingDue() const;
+  struct PendingScan;
   enum class Drive
   {
     Reached,      ///< every waypoint
@@ -426,6 +311,8 @@ class ExplorationLoop
   std::unique_ptr<navigation::StopAndScanDriver> driver_;
   mrpt::Clock::time_point t_start_;
   mrpt::poses::CPose2D pose_at_stop_, odo_at_stop_, last_estimate_;
+  mrpt::poses::CPose2D odo_at_scan_;      ///< odometry at the last scan taken (integrated or not)
+  std::unique_ptr<PendingScan> pending_;  ///< the scan SlamIcp integrates beside the driving
   double t_last_scan_s_ = -std::numeric_limits<double>::infinity();  ///< robot time of the last scan [s]
   double t_last_step_s_ = std::numeric_limits<double>::quiet_NaN();  ///< robot time onRobotStep() or a scan last saw [s]
   mapping::MapRevision checked_at_;  ///< the map's revision at the last plan or targetSeen() check
