@@ -4,6 +4,7 @@
 #include <mrpt/maps/CSimplePointsMap.h>
 #include <mrpt/obs/CObservation3DRangeScan.h>
 #include <mrpt/obs/CObservationOdometry.h>
+#include <voxplore/common/camera_mounts.h>
 #include <voxplore/mapping/robot_cloud.h>
 #include <voxplore/sim/DepthCameraRig.h>
 #include <voxplore/sim/Simulator.h>
@@ -11,6 +12,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <utility>
 #include <iostream>
 
 #include "test_worlds.h"
@@ -266,4 +268,19 @@ TEST(DepthCameraRig, AScanWhileDrivingIsStaggeredAndDeskewedOntoTheWalls)
   EXPECT_FALSE(standing.observations->getObservationByClass<mrpt::obs::CObservationOdometry>()->hasVelocities);
   EXPECT_EQ(mapping::deskewScans(still, *standing.observations), 0u);
   for (const auto& s : still) EXPECT_EQ(s->timestamp, standing.timestamp);
+}
+
+// Both robots' rings (thesis: yaws 0, +-40, +-90, +-140, 180 deg round the
+// footprint) look the same after a half turn; a ring with one camera turned
+// does not.
+TEST(CameraMounts, TheThesisRingIsTheSameAfterAHalfTurnAndAChangedOneIsNot)
+{
+  for (const auto& [l, w] : {std::pair{1.2, 0.712}, std::pair{0.5, 0.4}})
+  {
+    auto ring = voxplore::common::cameraRing(l, w, 0.6, mrpt::DEG2RAD(30.0));
+    EXPECT_TRUE(voxplore::common::mountsSymmetricUnderHalfTurn(ring)) << l << " x " << w;
+    ring[1] = mrpt::poses::CPose3D(ring[1].x(), ring[1].y(), ring[1].z(), ring[1].yaw() + 0.01,
+                                   ring[1].pitch(), ring[1].roll());
+    EXPECT_FALSE(voxplore::common::mountsSymmetricUnderHalfTurn(ring)) << l << " x " << w;
+  }
 }

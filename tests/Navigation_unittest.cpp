@@ -486,6 +486,29 @@ TEST(StopAndScanDriver, FinalYawInTheRoom)
   EXPECT_EQ(rig.collisions(), 0u);
 }
 
+// Continuous mode: a camera ring that a half turn maps onto itself sees the
+// same from a yaw and its half turn; the last turn goes to the nearer.
+TEST(StopAndScanDriver, AFinalYawWithAPeriodTurnsToTheNearestEquivalentYaw)
+{
+  const double want = mrpt::DEG2RAD(150.0);
+  double t[2];
+  for (const bool period : {false, true})
+  {
+    SimRig rig("omnirob");
+    const auto r = rig.driver->driveTo({2.0, 3.0}, want, period ? M_PI : 0.0);
+    ASSERT_EQ(r.outcome, DriveOutcome::Reached) << r.message;
+    const double yaw = rig.sim->robot().groundTruth().phi();
+    const double off = mrpt::math::wrapToPi(yaw - want);
+    // Without: the yaw asked for; with: it or its half turn, whichever the
+    // robot was nearer (it drove there at about its start yaw, 90 deg).
+    EXPECT_LE(std::abs(period ? mrpt::math::wrapToPi(off - M_PI) : off), rig.driver->params().yaw_tolerance)
+        << period << ": yaw " << mrpt::RAD2DEG(yaw);
+    EXPECT_EQ(rig.collisions(), 0u);
+    t[period] = r.sim_time_s;
+  }
+  EXPECT_LT(t[1], t[0]);
+}
+
 TEST(StopAndScanDriver, UnreachableWaypointsEndBlockedWithoutCollision)
 {
   // Inside the cabinet against the south wall, and behind the south wall.

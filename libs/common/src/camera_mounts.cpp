@@ -1,6 +1,10 @@
 #include <voxplore/common/camera_mounts.h>
 #include <voxplore/common/config.h>
 
+#include <mrpt/core/bits_math.h>
+#include <mrpt/math/wrap2pi.h>
+
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <sstream>
@@ -25,6 +29,21 @@ std::vector<CPose3D> cameraRing(double length_m, double width_m, double height_m
     out.emplace_back(t * c, t * s, height_m, yaw, 0.5 * vfov_rad, 0.0);
   }
   return out;
+}
+
+bool mountsSymmetricUnderHalfTurn(const std::vector<CPose3D>& mounts)
+{
+  const CPose3D half_turn(0, 0, 0, M_PI, 0, 0);
+  return std::all_of(mounts.begin(), mounts.end(), [&](const CPose3D& m) {
+    const CPose3D t = half_turn + m;
+    return std::any_of(mounts.begin(), mounts.end(), [&](const CPose3D& o) {
+      const CPose3D d = o - t;  // t's frame to o's
+      return d.translation().norm() <= 1e-3 &&
+             std::abs(mrpt::math::wrapToPi(d.yaw())) <= mrpt::DEG2RAD(0.1) &&
+             std::abs(mrpt::math::wrapToPi(d.pitch())) <= mrpt::DEG2RAD(0.1) &&
+             std::abs(mrpt::math::wrapToPi(d.roll())) <= mrpt::DEG2RAD(0.1);
+    });
+  });
 }
 
 std::string cameraPoseKey(int i) { return "cam" + std::to_string(i) + "_pose"; }

@@ -6,6 +6,7 @@
 #include <mrpt/core/bits_math.h>
 #include <mrpt/math/wrap2pi.h>
 #include <mrpt/system/CTicTac.h>
+#include <voxplore/common/camera_mounts.h>
 #include <voxplore/mission/ExplorationLoop.h>
 #include <voxplore/navigation/StopAndScanDriver.h>
 
@@ -93,6 +94,11 @@ ExplorationLoop::ExplorationLoop(
       low_replan_(params.lowObstacleReplanInForce(planner.collision, slam.octomap.l_res_m))
 {
   // [path] turn_on_the_way_deg auto: on when scanning while driving.
+  // Continuous: the last turn of a circle drive goes to the nearer of the
+  // target's yaw and its half turn when the cameras see the same from both.
+  if (params.scan_mode == ExplorationLoopParams::ScanMode::Continuous &&
+      common::mountsSymmetricUnderHalfTurn(planner_.rating.mounts))
+    view_period_ = M_PI;
   if (planner_.path.turn_on_the_way_deg < 0)
     planner_.path.turn_on_the_way_deg =
         params.scan_mode == ExplorationLoopParams::ScanMode::Continuous ? kAutoTurnOnTheWayDeg : 0.0;
@@ -259,7 +265,7 @@ ExplorationLoop::Drive ExplorationLoop::driveWaypoints(const exploration::PlanRe
     const auto r = narrow ? (pass ? driver_->passFootprint(wps[i], plan.waypoint_yaws[i], *pass_tol, turn)
                                   : driver_->driveFootprint(wps[i], plan.waypoint_yaws[i], final_yaw, turn))
                    : pass ? driver_->passBy(wps[i], *pass_tol)
-                          : driver_->driveTo(wps[i], final_yaw);
+                          : driver_->driveTo(wps[i], final_yaw, view_period_);
     settleScan();  // the checks below read the map
     status_.guard_scaled = driver_->guardScaledCommands();
     status_.guard_held = driver_->guardHeldCommands();

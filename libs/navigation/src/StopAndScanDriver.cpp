@@ -300,9 +300,10 @@ Ending checkAfterStep(const RobotInterface& robot, const DriverParams& params, D
 }  // namespace detail
 
 DriveResult StopAndScanDriver::driveTo(const Eigen::Vector2d& waypoint,
-                                       std::optional<double> final_yaw_rad)
+                                       std::optional<double> final_yaw_rad,
+                                       double final_yaw_period_rad)
 {
-  return reactiveDrive(waypoint, final_yaw_rad, -1.0);
+  return reactiveDrive(waypoint, final_yaw_rad, -1.0, final_yaw_period_rad);
 }
 
 DriveResult StopAndScanDriver::passBy(const Eigen::Vector2d& waypoint, double tolerance_m)
@@ -314,7 +315,7 @@ DriveResult StopAndScanDriver::passBy(const Eigen::Vector2d& waypoint, double to
 
 DriveResult StopAndScanDriver::reactiveDrive(const Eigen::Vector2d& waypoint,
                                              std::optional<double> final_yaw_rad,
-                                             double pass_tolerance_m)
+                                             double pass_tolerance_m, double final_yaw_period_rad)
 {
   checkClocks(robot_);
   const bool pass = pass_tolerance_m > 0;
@@ -402,20 +403,9 @@ DriveResult StopAndScanDriver::reactiveDrive(const Eigen::Vector2d& waypoint,
     if (esc.outcome == DriveOutcome::Error) res.outcome = DriveOutcome::Error;
   }
   res.goal_distance_m = distanceTo(res.final_pose, waypoint);
-  turnAtWaypoint(res, final_yaw_rad);
+  turnAtWaypoint(res, final_yaw_rad, final_yaw_period_rad);
   prependDrive(pre, res);
   return res;
-}
-
-void StopAndScanDriver::turnAtWaypoint(DriveResult& res, std::optional<double> final_yaw_rad)
-{
-  if (!res.reached() || !final_yaw_rad) return;
-  const DriveResult rot = rotateTo(*final_yaw_rad);
-  appendDrive(res, rot, "");
-  // The waypoint is reached; a turn the footprint cannot make there ends
-  // where the guard held it (the scan is taken in that yaw) instead of
-  // failing the whole drive.
-  if (!rot.guard_held) res.outcome = rot.outcome;
 }
 
 DriveResult StopAndScanDriver::rotateTo(double yaw_rad)

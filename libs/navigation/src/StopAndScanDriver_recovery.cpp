@@ -1,6 +1,6 @@
-/* voxplore — StopAndScanDriver's own recovery drives, used when MRPT's
- * reactive navigator stalls (a measured weakness of CHolonomicND in 1.1 m
- * corridors, see StopAndScanDriver.h). */
+/* voxplore — StopAndScanDriver's straight drive, its turn at a waypoint, and
+ * its own recovery drives, used when MRPT's reactive navigator stalls (a
+ * measured weakness of CHolonomicND in 1.1 m corridors, see StopAndScanDriver.h). */
 #include <mrpt/core/format.h>
 #include <mrpt/maps/CSimplePointsMap.h>
 #include <mrpt/math/wrap2pi.h>
@@ -98,6 +98,22 @@ DriveResult StopAndScanDriver::straightDrive(const Eigen::Vector2d& waypoint,
   }
   if (pass && end->first == DriveOutcome::Reached) return passDrive(robot_, log, *end);
   return finishDrive(log, *end);
+}
+
+void StopAndScanDriver::turnAtWaypoint(DriveResult& res, std::optional<double> final_yaw_rad,
+                                       double final_yaw_period_rad)
+{
+  if (!res.reached() || !final_yaw_rad) return;
+  double yaw = *final_yaw_rad;
+  if (final_yaw_period_rad > 0)
+    yaw += final_yaw_period_rad *
+           std::round(mrpt::math::wrapToPi(robot_.pose().phi() - yaw) / final_yaw_period_rad);
+  const DriveResult rot = rotateTo(mrpt::math::wrapToPi(yaw));
+  appendDrive(res, rot, "");
+  // The waypoint is reached; a turn the footprint cannot make there ends
+  // where the guard held it (the scan is taken in that yaw) instead of
+  // failing the whole drive.
+  if (!rot.guard_held) res.outcome = rot.outcome;
 }
 
 DriveResult StopAndScanDriver::escape()

@@ -18,6 +18,11 @@ namespace voxplore::common
 std::vector<mrpt::poses::CPose3D> cameraRing(
     double length_m, double width_m, double height_m, double vfov_rad);
 
+/// @brief Does a half turn of the robot (yaw + pi) map the set of camera
+///        mounts onto itself (each mount onto one within 1 mm and 0.1 deg)?
+///        Then a view and the view half a turn round it see the same.
+bool mountsSymmetricUnderHalfTurn(const std::vector<mrpt::poses::CPose3D>& mounts);
+
 /// @brief ini key of camera i's pose: "cam<i>_pose".
 std::string cameraPoseKey(int i);
 

@@ -331,6 +331,9 @@ class ExplorationLoop
   double path_at_interrupt_ = -std::numeric_limits<double>::infinity();
   /// params_.low_obstacle_replan resolved (lowObstacleReplanInForce).
   bool low_replan_ = false;
+  /// A circle drive's last turn may end this much off the target's yaw, or a
+  /// multiple of it (the cameras see the same: continuous mode) [rad]; 0 = none.
+  double view_period_ = 0;
   ExplorationStatus status_;
 };
 

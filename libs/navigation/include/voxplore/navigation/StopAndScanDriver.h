@@ -83,7 +83,11 @@ class StopAndScanDriver
   /// @throws std::runtime_error when RobotInterface::now() and
   ///         mrpt::Clock::now() disagree (a simulator that did not switch
   ///         MRPT to its simulated clock).
-  DriveResult driveTo(const Eigen::Vector2d& waypoint, std::optional<double> final_yaw_rad);
+  /// @param final_yaw_period_rad > 0: final_yaw_rad plus any multiple of it
+  ///        gives the same view (a camera ring that a half turn maps onto
+  ///        itself: pi); the turn goes to the nearest of them.
+  DriveResult driveTo(const Eigen::Vector2d& waypoint, std::optional<double> final_yaw_rad,
+                      double final_yaw_period_rad = 0);
 
   /// @brief Scanning while driving ([explore] scan_mode = continuous): drives
   ///        at an intermediate waypoint as driveTo() does, but without
@@ -194,7 +198,7 @@ class StopAndScanDriver
   struct Impl;
   /// driveTo() (pass_tolerance_m < 0) and passBy() (the tolerance).
   DriveResult reactiveDrive(const Eigen::Vector2d& waypoint, std::optional<double> final_yaw_rad,
-                            double pass_tolerance_m);
+                            double pass_tolerance_m, double final_yaw_period_rad = 0);
   /// The footprint guard has held the robot for guard_hold_s.
   bool guardHolding() const;
   /// Blocked when guardHolding().
@@ -222,7 +226,8 @@ class StopAndScanDriver
                              bool turn_on_way);
   /// The turn to `final_yaw_rad` at a reached waypoint (driveTo(),
   /// driveFootprint()), appended to `res`.
-  void turnAtWaypoint(DriveResult& res, std::optional<double> final_yaw_rad);
+  void turnAtWaypoint(DriveResult& res, std::optional<double> final_yaw_rad,
+                      double final_yaw_period_rad = 0);
   /// Stops the robot; the result of a drive that ended with `end`.
   DriveResult finishDrive(const detail::DriveLog& log,
                           const std::pair<DriveOutcome, std::string>& end);
