@@ -215,8 +215,9 @@ TEST(Explore, ContinuousScanningExploresTheRoomSoonerAndItsRawlogReplaysToTheSam
   const auto out = outDir("scan_continuous");
   fs::create_directories(out);
   const std::string ini = (fs::path(out).parent_path() / "voxplore_continuous.ini").string();
-  std::ofstream(ini) << withKey(slurp(VOXPLORE_SOURCE_DIR "/config/explore.ini"), "scan_mode",
-                               "continuous");
+  std::ofstream(ini) << withKey(withKey(slurp(VOXPLORE_SOURCE_DIR "/config/explore.ini"),
+                                       "scan_mode", "continuous"),
+                               "replan_on_the_way", "false");
   auto co = options(out);
   co.config = ini;
   co.robot = robot;
@@ -280,7 +281,7 @@ TEST(Explore, ContinuousScanningExploresTheRoomSoonerAndItsRawlogReplaysToTheSam
 TEST(Explore, ScansIntegratedBesideTheDrivingGiveTheSameRunTwiceAndReplay)
 {
   std::string ini = withKey(slurp(VOXPLORE_SOURCE_DIR "/config/explore.ini"), "scan_mode", "continuous");
-  ini = withKey(withKey(ini, "replan_on_the_way", "true"), "scan_latency_s", "0.3");
+  ini = withKey(ini, "scan_latency_s", "0.3");  // replan_on_the_way: the default
   std::vector<std::string> trajectories;
   apps::ExploreSummary s;
   std::string out;

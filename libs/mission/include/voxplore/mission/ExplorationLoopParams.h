@@ -130,8 +130,10 @@ struct ExplorationLoopParams : public mrpt::config::CLoadableOptions
   /// (exploration::planLayers); when the plan's frontier is gone (no
   /// frontier's centre within [sampling] blacklist_radius_m of it: the scans
   /// on the way have seen it), the drive ends there, moving, and the loop
-  /// plans from there. false = drive each plan to its end.
-  bool replan_on_the_way = false;
+  /// plans from there. false = drive each plan to its end. On by default
+  /// since the thirty-fourth session: 0.80x -> 0.76x the stop-and-scan
+  /// mission time on the same 18 campaign runs (b1-b5), coverage as before.
+  bool replan_on_the_way = true;
   /// Continuous: a scan taken while driving is registered and integrated
   /// beside the driving (SlamIcp::processStop on a worker thread) and its
   /// result is taken this long after the scan, or earlier when the drive
