@@ -96,7 +96,7 @@ ExplorationLoop::ExplorationLoop(
   // [path] turn_on_the_way_deg auto: on when scanning while driving.
   // Continuous: the last turn of a circle drive goes to the nearer of the
   // target's yaw and its half turn when the cameras see the same from both.
-  if (params.scan_mode == ExplorationLoopParams::ScanMode::Continuous &&
+  if (params.scan_mode == ExplorationLoopParams::ScanMode::Continuous && params.half_turn_views &&
       common::mountsSymmetricUnderHalfTurn(planner_.rating.mounts))
     view_period_ = M_PI;
   if (planner_.path.turn_on_the_way_deg < 0)

@@ -35,6 +35,7 @@ void ExplorationLoopParams::loadFromConfigFile(const mrpt::config::CConfigFileBa
   MRPT_LOAD_CONFIG_VAR(scan_every_deg, double, c, s);
   MRPT_LOAD_CONFIG_VAR(pass_tolerance_m, double, c, s);
   MRPT_LOAD_CONFIG_VAR(replan_on_the_way, bool, c, s);
+  MRPT_LOAD_CONFIG_VAR(half_turn_views, bool, c, s);
   MRPT_LOAD_CONFIG_VAR(scan_latency_s, double, c, s);
   common::requireValid(scan_latency_s >= 0 && scan_latency_s <= 5, c, s, "scan_latency_s",
                        "must be in [0, 5] [s]");
@@ -95,6 +96,7 @@ void ExplorationLoopParams::saveToConfigFile(mrpt::config::CConfigFileBase& c,
   MRPT_SAVE_CONFIG_VAR(scan_every_deg, c, s);
   MRPT_SAVE_CONFIG_VAR(pass_tolerance_m, c, s);
   MRPT_SAVE_CONFIG_VAR(replan_on_the_way, c, s);
+  MRPT_SAVE_CONFIG_VAR(half_turn_views, c, s);
   MRPT_SAVE_CONFIG_VAR(scan_latency_s, c, s);
   MRPT_SAVE_CONFIG_VAR(stagnation_new_frontier_guard, c, s);
   MRPT_SAVE_CONFIG_VAR(stagnation_steps, c, s);
