@@ -629,3 +629,16 @@ TEST(ExplorationLoop, StagnationWaitsWhileAFrontierWasNeverPlanned)
   // Off by default.
   EXPECT_FALSE(mission::ExplorationLoopParams{}.stagnation_new_frontier_guard);
 }
+
+// [path] turn_on_the_way_deg = auto (issue 15): what the loop and voxplore-plan
+// plan with: on (150 deg, under a half turn) when scanning while driving,
+// off for stop-and-scan; a configured value as it is.
+TEST(ExplorationLoopParams, TurnOnTheWayAutoFollowsTheScanMode)
+{
+  using mission::ExplorationLoopParams;
+  using M = ExplorationLoopParams::ScanMode;
+  EXPECT_EQ(ExplorationLoopParams::turnOnTheWayDegInForce(-1, M::Continuous), 150.0);
+  EXPECT_EQ(ExplorationLoopParams::turnOnTheWayDegInForce(-1, M::StopAndScan), 0.0);
+  EXPECT_EQ(ExplorationLoopParams::turnOnTheWayDegInForce(20, M::StopAndScan), 20.0);
+  EXPECT_EQ(ExplorationLoopParams::turnOnTheWayDegInForce(0, M::Continuous), 0.0);
+}

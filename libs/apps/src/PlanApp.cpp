@@ -8,6 +8,7 @@
 #include <voxplore/exploration/plan_inputs.h>
 
 #include <voxplore/exploration/footprint.h>
+#include <voxplore/mission/ExplorationLoopParams.h>
 
 #include <algorithm>
 #include <cstdio>
@@ -236,6 +237,12 @@ exploration::PlanResult PlanApp::execute(const PlanOptions& o, std::ostream& out
     out << "note: no [robot] section in " << o.config
         << ": planning with the default footprint (omniRob), without the swept footprint in G\n";
   params.load(*cfg);
+  // [path] turn_on_the_way_deg auto: as the run resolved it, by its scan mode.
+  params.path.turn_on_the_way_deg = mission::ExplorationLoopParams::turnOnTheWayDegInForce(
+      params.path.turn_on_the_way_deg,
+      cfg->read_string("explore", "scan_mode", "") == "continuous"
+          ? mission::ExplorationLoopParams::ScanMode::Continuous
+          : mission::ExplorationLoopParams::ScanMode::StopAndScan);
   std::unique_ptr<octomap::OcTree> V;
   exploration::PlanInputs in = exploration::readPlanInputs(o.inputs, V);
   if (!in.region.empty()) params.projection.region = in.region;

@@ -23,7 +23,6 @@ namespace voxplore::mission
 {
 namespace
 {
-constexpr double kAutoTurnOnTheWayDeg = 150;  // [path] turn_on_the_way_deg auto, continuous (< 180: the way round stays the planned one)
 /// Thrown from a robot step to end the run there (mid-drive): a listener's
 /// stop reason or the time limit. Not a std::exception, so that no error
 /// handler on the way mistakes it for a failure.
@@ -99,9 +98,8 @@ ExplorationLoop::ExplorationLoop(
   if (params.scan_mode == ExplorationLoopParams::ScanMode::Continuous && params.half_turn_views &&
       common::mountsSymmetricUnderHalfTurn(planner_.rating.mounts))
     view_period_ = M_PI;
-  if (planner_.path.turn_on_the_way_deg < 0)
-    planner_.path.turn_on_the_way_deg =
-        params.scan_mode == ExplorationLoopParams::ScanMode::Continuous ? kAutoTurnOnTheWayDeg : 0.0;
+  planner_.path.turn_on_the_way_deg = ExplorationLoopParams::turnOnTheWayDegInForce(
+      planner_.path.turn_on_the_way_deg, params.scan_mode);
 }
 
 ExplorationLoop::~ExplorationLoop() = default;

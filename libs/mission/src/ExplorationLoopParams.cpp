@@ -8,6 +8,12 @@
 
 namespace voxplore::mission
 {
+double ExplorationLoopParams::turnOnTheWayDegInForce(double configured, ScanMode mode)
+{
+  if (configured >= 0) return configured;
+  return mode == ScanMode::Continuous ? 150.0 : 0.0;
+}
+
 void ExplorationLoopParams::loadFromConfigFile(const mrpt::config::CConfigFileBase& c,
                                                const std::string& s)
 {

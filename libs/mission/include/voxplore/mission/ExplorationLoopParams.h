@@ -140,6 +140,11 @@ struct ExplorationLoopParams : public mrpt::config::CLoadableOptions
   /// a campaign shows it: 3 compact runs 1,302 -> 1,338 s (b4 nbv 321 ->
   /// 266 s, b4 nearest 236 -> 253 s, b1 nbv 745 -> 819 s: other courses).
   bool half_turn_views = false;
+  /// @brief [path] turn_on_the_way_deg as in force: `configured` when >= 0,
+  ///        else (auto) 150 deg in continuous mode (any planned turn; under
+  ///        180 so that the way round stays the planned one) and 0 in
+  ///        stop-and-scan (the robot stops at every waypoint anyway).
+  static double turnOnTheWayDegInForce(double configured, ScanMode mode);
   /// Continuous: a scan taken while driving is registered and integrated
   /// beside the driving (SlamIcp::processStop on a worker thread) and its
   /// result is taken this long after the scan, or earlier when the drive
