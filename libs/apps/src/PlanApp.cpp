@@ -237,12 +237,12 @@ exploration::PlanResult PlanApp::execute(const PlanOptions& o, std::ostream& out
     out << "note: no [robot] section in " << o.config
         << ": planning with the default footprint (omniRob), without the swept footprint in G\n";
   params.load(*cfg);
-  // [path] turn_on_the_way_deg auto: as the run resolved it, by its scan mode.
+  // [path] turn_on_the_way_deg auto: as the run resolved it, by its
+  // [explore] scan_mode (read and checked as voxplore-explore does).
+  mission::ExplorationLoopParams run;
+  run.loadFromConfigFile(*cfg, "explore");
   params.path.turn_on_the_way_deg = mission::ExplorationLoopParams::turnOnTheWayDegInForce(
-      params.path.turn_on_the_way_deg,
-      cfg->read_string("explore", "scan_mode", "") == "continuous"
-          ? mission::ExplorationLoopParams::ScanMode::Continuous
-          : mission::ExplorationLoopParams::ScanMode::StopAndScan);
+      params.path.turn_on_the_way_deg, run.scan_mode);
   std::unique_ptr<octomap::OcTree> V;
   exploration::PlanInputs in = exploration::readPlanInputs(o.inputs, V);
   if (!in.region.empty()) params.projection.region = in.region;

@@ -92,12 +92,12 @@ ExplorationLoop::ExplorationLoop(
       odo_at_stop_(robot.odometry()),
       low_replan_(params.lowObstacleReplanInForce(planner.collision, slam.octomap.l_res_m))
 {
-  // [path] turn_on_the_way_deg auto: on when scanning while driving.
-  // Continuous: the last turn of a circle drive goes to the nearer of the
-  // target's yaw and its half turn when the cameras see the same from both.
+  // half_turn_views: the last turn of a circle drive goes to the nearer of
+  // the target's yaw and its half turn when the cameras see the same from both.
   if (params.scan_mode == ExplorationLoopParams::ScanMode::Continuous && params.half_turn_views &&
       common::mountsSymmetricUnderHalfTurn(planner_.rating.mounts))
     view_period_ = M_PI;
+  // [path] turn_on_the_way_deg auto: on when scanning while driving.
   planner_.path.turn_on_the_way_deg = ExplorationLoopParams::turnOnTheWayDegInForce(
       planner_.path.turn_on_the_way_deg, params.scan_mode);
 }

@@ -5,14 +5,13 @@
 // plan's frontier (replan_on_the_way). Split from ExplorationLoop.cpp. Our
 // own code: the thesis stops at every waypoint.
 #include <mrpt/core/bits_math.h>
+#include <mrpt/core/format.h>
 #include <mrpt/math/wrap2pi.h>
+#include <mrpt/system/CTicTac.h>
 #include <voxplore/mission/ExplorationLoop.h>
 #include <voxplore/navigation/StopAndScanDriver.h>
 
 #include "pending_scan.h"
-
-#include <mrpt/core/format.h>
-#include <mrpt/system/CTicTac.h>
 
 #include <algorithm>
 #include <cmath>
@@ -131,9 +130,8 @@ std::optional<double> ExplorationLoop::passTolerance(const exploration::PlanResu
   if (!narrowAt(i)) return narrowAt(i + 1) ? std::nullopt : std::optional(params_.pass_tolerance_m);
   // From a footprint waypoint (in or at a passage the circle does not fit):
   // to another, the same yaw or a turn on the way there (no turn in place);
-  // and a way that bends little, so
-  // that the pass cuts the corner by at most tolerance x sin(bend) (a door
-  // leaves the body 2-5 cm a side).
+  // and a way that bends little, so that the pass cuts the corner by at most
+  // tolerance x sin(bend) (a door leaves the body 2-5 cm a side).
   constexpr double kPassBendDeg = 20;
   const auto& p = driver_->params();
   const bool turn_next = i + 1 < plan.waypoint_turn_on_way.size() && plan.waypoint_turn_on_way[i + 1];
