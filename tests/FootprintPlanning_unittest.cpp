@@ -112,7 +112,23 @@ void expectNeverClips(const GroundGrid& g, const Path& path)
     const double ya = path.yaws[k], yb = path.yaws[k + 1];
     // The drive to waypoint k+1 turns to its yaw first, then translates; or
     // (turn_on_way) turns in proportion to the way made.
-    const bool on_way = k + 1 < path.turn_on_way.size() && path.turn_on_way[k + 1];
+    const uint8_t kind = k + 1 < path.turn_on_way.size() ? path.turn_on_way[k + 1] : uint8_t(0);
+    const bool on_way = kind != 0;
+    if (kind == Path::kTurnFromAnyYaw)
+    {
+      // A lead-in starts in whatever yaw the robot has: every yaw (10 deg
+      // apart) every 2 cm along it.
+      const int n = std::max(1, static_cast<int>(std::ceil((b - a).norm() / 0.02)));
+      for (int i = 0; i <= n; ++i)
+        for (int deg = 0; deg < 360; deg += 10)
+        {
+          const Eigen::Vector2d q = a + (b - a) * (static_cast<double>(i) / n);
+          ASSERT_FALSE(clipsAWall(g, CPose2D(q.x(), q.y(), mrpt::DEG2RAD(deg))))
+              << "lead-in to waypoint " << k + 1 << " at (" << q.x() << ", " << q.y() << ") yaw "
+              << deg;
+        }
+      continue;
+    }
     const int turns = std::max(1, static_cast<int>(std::ceil(std::abs(yb - ya) / 0.0175)));
     for (int i = 0; i <= turns && !on_way; ++i)
     {
@@ -210,12 +226,13 @@ TEST(FootprintSpace, TurnsOnTheWayReplaceTurnsInPlaceAndNeverClip)
     return n;
   };
   ASSERT_EQ(b->turn_on_way.size(), b->waypoints.size());
-  const auto merged = std::count(b->turn_on_way.begin(), b->turn_on_way.end(), 1);
+  const auto merged = b->turn_on_way.size() -
+                      std::count(b->turn_on_way.begin(), b->turn_on_way.end(), uint8_t(0));
   std::cout << "[ turns ] in place " << turnsInPlace(*a) << " of " << a->waypoints.size()
             << " waypoints; on the way: in place " << turnsInPlace(*b) << ", on the way " << merged
             << " of " << b->waypoints.size() << std::endl;
   EXPECT_GE(turnsInPlace(*a), 1u);
-  EXPECT_GE(merged, 1);
+  EXPECT_GE(merged, 1u);
   EXPECT_LT(turnsInPlace(*b), turnsInPlace(*a));
   EXPECT_EQ(std::count(a->turn_on_way.begin(), a->turn_on_way.end(), 1), 0);
   // The same way: the translations are the same (the turns left out).
@@ -227,6 +244,49 @@ TEST(FootprintSpace, TurnsOnTheWayReplaceTurnsInPlaceAndNeverClip)
       EXPECT_TRUE(b->narrow[k]) << k;
       EXPECT_GT((b->waypoints[k] - b->waypoints[k - 1]).norm(), 1e-9) << k;
     }
+}
+
+// Lead-ins (issue 15): the wide way before the door, which MRPT's reactive
+// drive would end facing its own direction of travel, turns to the door's
+// yaw on the way, from any yaw; the last wide way turns to the goal's yaw.
+// No turn in place is left, and no yaw clips a wall on a lead-in.
+TEST(FootprintSpace, LeadInsTurnOnTheWideWayToThePassageAndToTheGoalYaw)
+{
+  GroundGrid g = twoRoomsWithADoor(0.90);
+  const CPose2D start(-1.5, 0.3, M_PI / 2);
+  const Planned pl = footprintSpaceOf(g, start);
+  PathParams on_way;
+  on_way.turn_on_the_way_deg = 150;
+  const auto door = planFootprintPath(pl.cs, pl.fs, start, {1.6, 0.0}, M_PI / 2, on_way);
+  ASSERT_TRUE(door);
+  expectNeverClips(g, *door);
+  std::size_t into_door = 0;
+  for (std::size_t k = 1; k + 1 < door->waypoints.size(); ++k)
+    if (door->turn_on_way[k] == Path::kTurnFromAnyYaw && door->narrow[k + 1])
+    {
+      ++into_door;
+      EXPECT_TRUE(door->narrow[k]);
+      EXPECT_NE(door->turn_on_way[k + 1], Path::kTurnFromPrevious) << "turned before, on the lead-in";
+      EXPECT_NEAR(mrpt::math::wrapToPi(door->yaws[k] - door->yaws[k + 1]), 0.0, 1e-9);
+      EXPECT_LT(door->waypoints[k].x(), 0.0);  // before the door
+    }
+  EXPECT_GE(into_door, 1u);
+
+  const CPose2D in_room(-2.0, 0.0, 0.0);
+  const Planned room = footprintSpaceOf(g, in_room);
+  const auto goal = planFootprintPath(room.cs, room.fs, in_room, {-1.0, 0.5}, M_PI / 2, on_way);
+  ASSERT_TRUE(goal && goal->final_yaw);
+  expectNeverClips(g, *goal);
+  const std::size_t n = goal->waypoints.size();
+  ASSERT_GE(n, 2u);
+  EXPECT_EQ(goal->turn_on_way[n - 1], Path::kTurnFromAnyYaw);
+  EXPECT_GT((goal->waypoints[n - 1] - goal->waypoints[n - 2]).norm(), 1e-9) << "a turn in place at the goal";
+  EXPECT_NEAR(mrpt::math::wrapToPi(goal->yaws[n - 1] - *goal->final_yaw), 0.0, 1e-9);
+  EXPECT_NEAR(mrpt::math::wrapToPi(2.0 * (*goal->final_yaw - M_PI / 2)), 0.0, 0.2);
+  // Off (stop-and-scan): no lead-in.
+  const auto off = planFootprintPath(room.cs, room.fs, in_room, {-1.0, 0.5}, M_PI / 2, PathParams{});
+  ASSERT_TRUE(off);
+  EXPECT_EQ(std::count(off->turn_on_way.begin(), off->turn_on_way.end(), Path::kTurnFromAnyYaw), 0);
 }
 
 TEST(FootprintSpace, ASeventyCentimetreDoorIsRefused)

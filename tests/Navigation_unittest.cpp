@@ -843,6 +843,36 @@ TEST(StopAndScanDriver, AFootprintDriveTurnsOnTheWayAndArrivesSooner)
   EXPECT_LT(t[1], t[0] - 0.5);
 }
 
+// A corner between two footprint drives (scan_mode = continuous, issue 15):
+// passed on the waypoint itself at the corner speed, not stopped at and not
+// cut (a pass within a tolerance would leave the next drive a way beside the
+// planned one).
+TEST(StopAndScanDriver, AFootprintPassLandsOnACornerAndGoesOnSooner)
+{
+  const mrpt::poses::CPose2D start(1.5, 1.5, 0.0);
+  const Vector2d corner(2.5, 1.5), end(3.2, 2.2);  // a 45 deg corner: full speed
+  constexpr double kTolerance_m = 0.005;
+  double t[2];
+  for (const bool pass : {false, true})
+  {
+    ProbedOmniRob rig(twoRoomsWorld(0.90), start);
+    auto& driver = rig.driver;
+    const auto a = pass ? driver.passFootprint(corner, 0.0, kTolerance_m, false, 0.5)
+                        : driver.driveFootprint(corner, 0.0);
+    ASSERT_EQ(a.outcome, DriveOutcome::Reached) << pass << ": " << a.message;
+    const double off = std::hypot(a.final_pose.x() - corner.x(), a.final_pose.y() - corner.y());
+    EXPECT_LE(off, pass ? kTolerance_m : driver.params().goal_tolerance_m) << pass;
+    const auto b = driver.driveFootprint(end, 0.0);
+    ASSERT_EQ(b.outcome, DriveOutcome::Reached) << pass << ": " << b.message;
+    EXPECT_EQ(rig.simulator.robot().collisions(), 0u);
+    EXPECT_EQ(rig.probe.tooClose(), 0u);
+    t[pass] = a.sim_time_s + b.sim_time_s;
+  }
+  std::cout << "[ corner ] stopping at it " << t[0] << " s, passing on it " << t[1] << " s"
+            << std::endl;
+  EXPECT_LT(t[1], t[0] - 0.3);
+}
+
 TEST(StopAndScanDriver, TheOmniRobPassesANinetyCentimetreDoorTurnedLengthwise)
 {
   // The omniRob starts across the door's axis (yaw 90 deg). The planner's

@@ -101,8 +101,64 @@ void turnOnTheWay(Path& path, const SE2Search& s, const FootprintSpace& fs, doub
     out.waypoints.push_back(w[k]);
     out.yaws.push_back(path.yaws[k]);
     out.narrow.push_back(path.narrow[k]);
-    out.turn_on_way.push_back(merge ? 1 : 0);
+    out.turn_on_way.push_back(merge ? Path::kTurnFromPrevious : 0);
     ++k;
+  }
+  path = std::move(out);
+}
+
+/// A translation along which the turn layer holds every yaw (a wide way:
+/// MRPT's reactive drive, whose holonomic PTG faces the way it goes, or a
+/// wide piece of a narrow shortcut), followed by a narrow translation (after
+/// turns in place or not) or ending at the goal, is made a footprint drive
+/// that turns to the yaw needed there on the way, from whatever yaw it
+/// starts in (Path::kTurnFromAnyYaw); turns in place before and after it
+/// are dropped. The robot then neither stops before the passage nor turns
+/// in place at its end (b10, compact, continuous: 26 turns in place of 74
+/// deg on average after a reactive drive, 9 % of the run's time). Our own,
+/// as turnOnTheWay().
+void leadInTurns(Path& path, const SE2Search& s, const FootprintSpace& fs)
+{
+  const auto& w = path.waypoints;
+  const std::size_t n = w.size();
+  Path out = path;
+  out.waypoints.assign(1, w[0]);
+  out.yaws.assign(1, path.yaws[0]);
+  out.narrow.assign(1, path.narrow[0]);
+  out.turn_on_way.assign(1, 0);
+  bool turned_before = false;  // the last lead-in turned to this translation's yaw already
+  for (std::size_t k = 1; k < n;)
+  {
+    std::size_t m = k + 1;  // the next translation, after the turns in place at w[k]
+    while (m < n && (w[m] - w[k]).norm() < 1e-9) ++m;
+    // A piece of a narrow translation may be wide too (its flag is the
+    // whole shortcut's): the turn layer decides.
+    const bool lead = (w[k] - w[k - 1]).norm() > 1e-9 && (m == n || path.narrow[m]) &&
+                      turnsAlong(s, fs, w[k - 1], w[k], 0.0, 2.0 * kPi);
+    // The turns in place before it are made on it too.
+    while (lead && out.waypoints.size() >= 2 &&
+           (out.waypoints.back() - out.waypoints[out.waypoints.size() - 2]).norm() < 1e-9)
+    {
+      out.waypoints.pop_back();
+      out.yaws.pop_back();
+      out.narrow.pop_back();
+      out.turn_on_way.pop_back();
+    }
+    out.waypoints.push_back(w[k]);
+    out.narrow.push_back(lead ? 1 : path.narrow[k]);
+    out.turn_on_way.push_back(lead ? Path::kTurnFromAnyYaw : turned_before ? 0 : path.turn_on_way[k]);
+    turned_before = false;
+    if (!lead)
+    {
+      out.yaws.push_back(path.yaws[k]);
+      ++k;
+      continue;
+    }
+    // The yaw of the next translation (the turn it made on its way, too),
+    // or the goal's.
+    out.yaws.push_back(m < n ? path.yaws[m] : path.final_yaw.value_or(path.yaws[n - 1]));
+    turned_before = m < n;
+    k = m;
   }
   path = std::move(out);
 }
@@ -245,6 +301,7 @@ std::optional<Path> planFootprintPath(
   }
   if (p.turn_on_the_way_deg > 0 && path.waypoints.size() > 2)
     turnOnTheWay(path, search, fs, mrpt::DEG2RAD(p.turn_on_the_way_deg));
+  if (p.turn_on_the_way_deg > 0) leadInTurns(path, search, fs);
   double m = std::numeric_limits<double>::infinity();
   for (const auto& c : path.cells_path)
   {

@@ -257,12 +257,13 @@ ExplorationLoop::Drive ExplorationLoop::driveWaypoints(const exploration::PlanRe
     const bool narrow = i < plan.waypoint_narrow.size() && plan.waypoint_narrow[i];
     // scan_mode = continuous: through the waypoint without stopping; the
     // scans are taken on the way (onRobotStep).
-    const std::optional<double> pass_tol = continuous ? passTolerance(plan, i) : std::nullopt;
+    const std::optional<Pass> pass_tol = continuous ? passTolerance(plan, i) : std::nullopt;
     const bool pass = pass_tol.has_value();
     const bool turn = i < plan.waypoint_turn_on_way.size() && plan.waypoint_turn_on_way[i];
-    const auto r = narrow ? (pass ? driver_->passFootprint(wps[i], plan.waypoint_yaws[i], *pass_tol, turn)
+    const auto r = narrow ? (pass ? driver_->passFootprint(wps[i], plan.waypoint_yaws[i], pass_tol->tolerance_m, turn,
+                                                           pass_tol->corner_speed_mps)
                                   : driver_->driveFootprint(wps[i], plan.waypoint_yaws[i], final_yaw, turn))
-                   : pass ? driver_->passBy(wps[i], *pass_tol)
+                   : pass ? driver_->passBy(wps[i], pass_tol->tolerance_m)
                           : driver_->driveTo(wps[i], final_yaw, view_period_);
     settleScan();  // the checks below read the map
     status_.guard_scaled = driver_->guardScaledCommands();

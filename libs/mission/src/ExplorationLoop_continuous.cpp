@@ -119,22 +119,29 @@ bool ExplorationLoop::targetSeen(const exploration::PlanResult& plan)
                       { return (f.center - plan.frontier->center).norm() <= r; });
 }
 
-std::optional<double> ExplorationLoop::passTolerance(const exploration::PlanResult& plan,
+std::optional<ExplorationLoop::Pass> ExplorationLoop::passTolerance(const exploration::PlanResult& plan,
                                                      std::size_t i) const
 {
   const auto& wps = plan.waypoints;
   if (i + 1 >= wps.size()) return std::nullopt;
   auto narrowAt = [&](std::size_t k)
   { return k < plan.waypoint_narrow.size() && plan.waypoint_narrow[k]; };
-  // Circle to circle: MRPT's reactive drive goes on from anywhere near.
-  if (!narrowAt(i)) return narrowAt(i + 1) ? std::nullopt : std::optional(params_.pass_tolerance_m);
+  // Circle to circle: MRPT's reactive drive goes on from anywhere near; so
+  // does a lead-in (the rectangle may hold any yaw all along it).
+  const auto turnAt = [&](std::size_t k)
+  { return k < plan.waypoint_turn_on_way.size() ? plan.waypoint_turn_on_way[k] : uint8_t(0); };
+  if (!narrowAt(i))
+    return narrowAt(i + 1) && turnAt(i + 1) != exploration::Path::kTurnFromAnyYaw
+               ? std::nullopt
+               : std::optional(Pass{params_.pass_tolerance_m});
   // From a footprint waypoint (in or at a passage the circle does not fit):
   // to another, the same yaw or a turn on the way there (no turn in place);
-  // and a way that bends little, so that the pass cuts the corner by at most
-  // tolerance x sin(bend) (a door leaves the body 2-5 cm a side).
+  // a way that bends little is passed within a tolerance, cutting the corner
+  // by at most tolerance x sin(bend) (a door leaves the body 2-5 cm a side);
+  // one that bends more, on the waypoint itself (no corner cut).
   constexpr double kPassBendDeg = 20;
   const auto& p = driver_->params();
-  const bool turn_next = i + 1 < plan.waypoint_turn_on_way.size() && plan.waypoint_turn_on_way[i + 1];
+  const bool turn_next = turnAt(i + 1) != 0;
   if (narrowAt(i + 1) && !turn_next &&
       (i + 1 >= plan.waypoint_yaws.size() ||
        std::abs(mrpt::math::wrapToPi(plan.waypoint_yaws[i + 1] - plan.waypoint_yaws[i])) >
@@ -144,9 +151,21 @@ std::optional<double> ExplorationLoop::passTolerance(const exploration::PlanResu
   const Eigen::Vector2d a = wps[i] - from, b = wps[i + 1] - wps[i];
   if (a.norm() < 1e-6 || b.norm() < 1e-6) return std::nullopt;
   const double bend = std::acos(std::clamp(a.dot(b) / (a.norm() * b.norm()), -1.0, 1.0));
-  if (bend > mrpt::DEG2RAD(kPassBendDeg)) return std::nullopt;
+  if (bend > mrpt::DEG2RAD(kPassBendDeg))
+  {
+    // Into MRPT's reactive drive, which blends from the robot's velocity
+    // over t_ramp_max_s and would cut the corner: stop.
+    if (!narrowAt(i + 1)) return std::nullopt;
+    // A corner between two straight footprint drives: the velocity turns by
+    // `bend` at the waypoint, a jump of 2 v sin(bend / 2), kept no larger
+    // than the simulated robot's own start from standstill (0 -> max_v in
+    // one period; it has no acceleration limit): full speed up to 60 deg.
+    constexpr double kCornerTolerance_m = 0.005;
+    const double corner_v = std::min(p.max_v_mps, p.max_v_mps / (2.0 * std::sin(0.5 * bend)));
+    return Pass{kCornerTolerance_m, corner_v};
+  }
   // One navigation period's travel at most: the drive checks once a period.
-  return std::min(params_.pass_tolerance_m, p.max_v_mps * p.dt_s);
+  return Pass{std::min(params_.pass_tolerance_m, p.max_v_mps * p.dt_s)};
 }
 
 bool ExplorationLoop::scanDue() const

@@ -56,16 +56,19 @@ DriveResult StopAndScanDriver::driveFootprint(const Eigen::Vector2d& waypoint, d
 }
 
 DriveResult StopAndScanDriver::passFootprint(const Eigen::Vector2d& waypoint, double yaw_rad,
-                                             double tolerance_m, bool turn_on_way)
+                                             double tolerance_m, bool turn_on_way,
+                                             double corner_speed_mps)
 {
   if (!(tolerance_m > 0))
     throw std::invalid_argument("StopAndScanDriver::passFootprint: tolerance_m must be > 0");
-  return footprintDrive(waypoint, yaw_rad, std::nullopt, tolerance_m, turn_on_way);
+  return footprintDrive(waypoint, yaw_rad, std::nullopt, tolerance_m, turn_on_way,
+                        corner_speed_mps);
 }
 
 DriveResult StopAndScanDriver::footprintDrive(const Eigen::Vector2d& waypoint, double yaw_rad,
                                               std::optional<double> final_yaw_rad,
-                                              double pass_tolerance_m, bool turn_on_way)
+                                              double pass_tolerance_m, bool turn_on_way,
+                                              double corner_speed_mps)
 {
   const bool pass = pass_tolerance_m > 0;
   DriveResult pre;  // no steps: prependDrive() leaves the drive as it is
@@ -118,7 +121,8 @@ DriveResult StopAndScanDriver::footprintDrive(const Eigen::Vector2d& waypoint, d
              "a sensed obstacle point lies inside the footprint at the waypoint"}};
   };
   DriveResult tr = straightDrive(waypoint, yaw_rad, rectangle_at_goal,
-                                 pass ? pass_tolerance_m : -1.0, pass, turn_on_way);
+                                 pass ? pass_tolerance_m : -1.0, pass, turn_on_way,
+                                 pass ? corner_speed_mps : -1.0);
   // Blocked at the waypoint by points inside the rectangle there: the map
   // (and the plan on it) may be off by a few centimetres where the body has
   // centimetres to spare, in a door. Centre the waypoint on what the sensors

@@ -43,7 +43,8 @@ DriveResult StopAndScanDriver::driveStraight(const Eigen::Vector2d& waypoint)
 
 DriveResult StopAndScanDriver::straightDrive(const Eigen::Vector2d& waypoint,
                                              std::optional<double> hold_yaw, const WayCheck& way,
-                                             double tolerance_m, bool pass, bool turn_on_way)
+                                             double tolerance_m, bool pass, bool turn_on_way,
+                                             double corner_speed_mps)
 {
   const double tolerance = tolerance_m >= 0 ? tolerance_m : params_.goal_tolerance_m;
   const CPose2D start = robot_.pose();
@@ -80,8 +81,12 @@ DriveResult StopAndScanDriver::straightDrive(const Eigen::Vector2d& waypoint,
     bandPoints(pts, params_.min_obstacle_height_m, params_.max_obstacle_height_m, band);
     end = way(band, tx, ty, p);
     if (end) break;
-    const double v = std::min(
-        v_turn, pass ? params_.max_v_mps : std::min(params_.max_v_mps, params_.max_v_mps * d / 0.3));
+    const double ramp = params_.max_v_mps * d / 0.3;  // slowing down over the last 0.3 m
+    const bool corner = pass && corner_speed_mps >= 0;
+    double v = std::min(v_turn, !pass   ? std::min(params_.max_v_mps, ramp)
+                                : corner ? std::min(params_.max_v_mps, std::max(corner_speed_mps, ramp))
+                                         : params_.max_v_mps);
+    if (corner) v = std::min(v, d / params_.dt_s);  // lands on the corner
     double w = 0;
     if (hold_yaw)
     {

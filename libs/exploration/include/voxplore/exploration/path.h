@@ -50,9 +50,14 @@ struct Path
   /// the planner's circle does not fit on that way (drive the rectangle).
   std::vector<double> yaws;
   std::vector<uint8_t> narrow;
-  /// 1 where the robot turns from the previous waypoint's yaw to this one's
-  /// on the way to it, not in place first (PathParams::turn_on_the_way_deg).
+  /// Where the robot turns to this waypoint's yaw on the way to it, not in
+  /// place first (PathParams::turn_on_the_way_deg): kTurnFromPrevious (from
+  /// the previous waypoint's yaw; the turn layer holds every yaw between
+  /// along the way) or kTurnFromAnyYaw (a lead-in: from whatever yaw the
+  /// robot has there; the turn layer holds every yaw along the way); else 0.
   std::vector<uint8_t> turn_on_way;
+  static constexpr uint8_t kTurnFromPrevious = 1;
+  static constexpr uint8_t kTurnFromAnyYaw = 2;
   std::optional<double> final_yaw;  ///< Footprint: the yaw to turn to at the goal [rad]
 };
 

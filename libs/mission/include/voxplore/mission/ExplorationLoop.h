@@ -235,12 +235,19 @@ class ExplorationLoop
   /// low_obstacle_replan: whether a low obstacle cell not in low_at_plan_
   /// lies within reach of the path from waypoint `from` on.
   bool lowObstacleAhead(const exploration::PlanResult& plan, std::size_t from) const;
-  /// scan_mode = continuous: the tolerance within which waypoint i of the
-  /// plan is passed without stopping; empty when the robot must stop there
-  /// (the last one; a circle waypoint before a footprint one, whose turn
-  /// the planner checked there; a footprint one whose next needs a turn or
-  /// bends the way by more than kPassBendDeg, which a pass would cut).
-  std::optional<double> passTolerance(const exploration::PlanResult& plan, std::size_t i) const;
+  /// How waypoint i of a plan is passed without stopping (scan_mode =
+  /// continuous): within tolerance_m, or, at a corner (corner_speed_mps >=
+  /// 0), on the waypoint itself at no more than that speed.
+  struct Pass
+  {
+    double tolerance_m = 0;
+    double corner_speed_mps = -1;
+  };
+  /// Empty when the robot must stop there (the last one; a circle waypoint
+  /// before a footprint one, unless a lead-in; a footprint one whose next
+  /// needs a turn in place, or bends the way into a circle one by more than
+  /// kPassBendDeg, which a pass would cut).
+  std::optional<Pass> passTolerance(const exploration::PlanResult& plan, std::size_t i) const;
   /// The pose the planner plans from.
   mrpt::poses::CPose2D planPose() const;
   /// replan_on_the_way: the plan's frontier is gone from a plan made now.

@@ -145,8 +145,12 @@ class StopAndScanDriver
   ///        returns Reached within `tolerance_m` with the robot still moving
   ///        (no back-off first while it moves). Any other ending is
   ///        driveFootprint()'s, standing. `turn_on_way` as driveFootprint().
+  /// @param corner_speed_mps >= 0: a corner; the robot slows down to this
+  ///        speed (at most) over the last 0.3 m and lands on the waypoint
+  ///        (its last step no longer than the way left) instead of ending
+  ///        the drive before it, so the next drive does not cut the corner.
   DriveResult passFootprint(const Eigen::Vector2d& waypoint, double yaw_rad, double tolerance_m,
-                            bool turn_on_way = false);
+                            bool turn_on_way = false, double corner_speed_mps = -1);
 
   /// @brief Recovery of a pinned robot (our own: MRPT's reactive navigator
   ///        stands still for ever once an obstacle point is at its circle):
@@ -217,13 +221,14 @@ class StopAndScanDriver
   /// `pass`: no slowing down, and Reached leaves the robot moving.
   /// `turn_on_way`: turn from the yaw at the start to `hold_yaw` in
   /// proportion to the way made (no faster than 0.8 max_w allows).
+  /// `corner_speed_mps` >= 0 (a pass): passFootprint()'s corner.
   DriveResult straightDrive(const Eigen::Vector2d& waypoint, std::optional<double> hold_yaw,
                             const WayCheck& way, double tolerance_m = -1, bool pass = false,
-                            bool turn_on_way = false);
+                            bool turn_on_way = false, double corner_speed_mps = -1);
   /// driveFootprint() (pass_tolerance_m < 0) and passFootprint().
   DriveResult footprintDrive(const Eigen::Vector2d& waypoint, double yaw_rad,
                              std::optional<double> final_yaw_rad, double pass_tolerance_m,
-                             bool turn_on_way);
+                             bool turn_on_way, double corner_speed_mps = -1);
   /// The turn to `final_yaw_rad` at a reached waypoint (driveTo(),
   /// driveFootprint()), appended to `res`.
   void turnAtWaypoint(DriveResult& res, std::optional<double> final_yaw_rad,
