@@ -289,6 +289,36 @@ TEST(FootprintSpace, LeadInsTurnOnTheWideWayToThePassageAndToTheGoalYaw)
   EXPECT_EQ(std::count(off->turn_on_way.begin(), off->turn_on_way.end(), Path::kTurnFromAnyYaw), 0);
 }
 
+// Every turn made on the way (onto the translation after it or before it,
+// or a lead-in from any yaw) keeps the rectangle off the walls, from starts
+// all over the first room in four yaws to goals in both rooms.
+TEST(FootprintSpace, TurnsOnTheWayNeverClipFromAnyStart)
+{
+  GroundGrid g = twoRoomsWithADoor(0.90);
+  PathParams on_way;
+  on_way.turn_on_the_way_deg = 150;
+  std::size_t paths = 0, on_the_way = 0;
+  for (const double x : {-2.2, -1.2})
+    for (const double y : {-0.6, 0.6})
+      for (const double yaw : {0.0, M_PI / 2, M_PI, -M_PI / 4})
+      {
+        const CPose2D start(x, y, yaw);
+        const Planned pl = footprintSpaceOf(g, start);
+        for (const Eigen::Vector2d& goal : {Eigen::Vector2d(1.6, 0.8), Eigen::Vector2d(-2.3, -0.8)})
+        {
+          const auto path = planFootprintPath(pl.cs, pl.fs, start, goal, yaw + 1.0, on_way);
+          if (!path) continue;
+          ++paths;
+          on_the_way += path->turn_on_way.size() -
+                        std::count(path->turn_on_way.begin(), path->turn_on_way.end(), uint8_t(0));
+          expectNeverClips(g, *path);
+        }
+      }
+  std::cout << "[ turns on the way ] " << on_the_way << " on " << paths << " paths" << std::endl;
+  EXPECT_GE(paths, 24u);
+  EXPECT_GE(on_the_way, paths);
+}
+
 TEST(FootprintSpace, ASeventyCentimetreDoorIsRefused)
 {
   GroundGrid g = twoRoomsWithADoor(0.70);

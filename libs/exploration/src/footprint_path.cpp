@@ -59,26 +59,12 @@ void appendTurn(Path& path, const SE2Search& s, double yaw)
   }
 }
 
-/// Does the rectangle keep the turn margin ([collision]
-/// footprint_turn_margin_m, FootprintSpace::clear_turn: every yaw of a bin)
-/// at every yaw from yaw0 to yaw1 (unwrapped: that way round) all along a-b?
-bool turnsAlong(const SE2Search& s, const FootprintSpace& fs, const Eigen::Vector2d& a,
-                const Eigen::Vector2d& b, double yaw0, double yaw1)
-{
-  const int steps = static_cast<int>(std::lround(std::abs(yaw1 - yaw0) / fs.binWidth()));
-  const int dir = yaw1 >= yaw0 ? 1 : -1;
-  const int b0 = fs.binOf(yaw0);
-  YawMask need = 0;
-  for (int k = 0; k <= steps && k < fs.bins; ++k)
-    need |= YawMask(1) << (((b0 + dir * k) % fs.bins + fs.bins) % fs.bins);
-  return s.everySample(a, b, [&](std::size_t i) { return (fs.clear_turn.data()[i] & need) == need; });
-}
-
 /// Turns in place of at most max_rad followed by a translation in a narrow
 /// passage (a footprint drive) are made on that translation instead, where
-/// turnsAlong() holds: the drive turns while it translates and does not
-/// stop (PathParams::turn_on_the_way_deg). Our own: the SE(2) search plans
-/// turns in place only.
+/// turnClearAlong() holds, or else on the footprint translation before them:
+/// the drive turns while it translates and does not stop
+/// (PathParams::turn_on_the_way_deg). Our own: the SE(2) search plans turns
+/// in place only.
 void turnOnTheWay(Path& path, const SE2Search& s, const FootprintSpace& fs, double max_rad)
 {
   Path out = path;
@@ -96,7 +82,23 @@ void turnOnTheWay(Path& path, const SE2Search& s, const FootprintSpace& fs, doub
     const bool merge = m > k && m < w.size() && path.narrow[m] &&
                        path.yaws[m] == path.yaws[m - 1] &&
                        std::abs(path.yaws[m - 1] - path.yaws[k - 1]) <= max_rad &&
-                       turnsAlong(s, fs, w[k - 1], w[m], path.yaws[k - 1], path.yaws[m - 1]);
+                       turnClearAlong(s.cs, fs, w[k - 1], w[m], path.yaws[k - 1], path.yaws[m - 1], true);
+    // Else onto the footprint translation before, where the turn layer
+    // holds every yaw between along it: the robot arrives turned.
+    // (Its own turn on the way, if it has one, and this one together.)
+    const std::size_t o = out.waypoints.size();
+    const double y0 = o >= 2 && out.turn_on_way.back() ? out.yaws[o - 2] : out.yaws.back();
+    const bool back = !merge && m > k && o >= 2 && path.narrow[k - 1] &&
+                      (out.waypoints[o - 1] - out.waypoints[o - 2]).norm() > 1e-9 &&
+                      std::abs(path.yaws[m - 1] - y0) <= max_rad &&
+                      turnClearAlong(s.cs, fs, out.waypoints[o - 2], out.waypoints[o - 1], y0, path.yaws[m - 1], true);
+    if (back)
+    {
+      out.yaws.back() = path.yaws[m - 1];
+      out.turn_on_way.back() = Path::kTurnFromPrevious;
+      k = m;  // drop the turns; w[m] translates on from there
+      continue;
+    }
     if (merge) k = m;  // drop the turns; w[m] turns on the way
     out.waypoints.push_back(w[k]);
     out.yaws.push_back(path.yaws[k]);
@@ -134,7 +136,7 @@ void leadInTurns(Path& path, const SE2Search& s, const FootprintSpace& fs)
     // A piece of a narrow translation may be wide too (its flag is the
     // whole shortcut's): the turn layer decides.
     const bool lead = (w[k] - w[k - 1]).norm() > 1e-9 && (m == n || path.narrow[m]) &&
-                      turnsAlong(s, fs, w[k - 1], w[k], 0.0, 2.0 * kPi);
+                      turnClearAlong(s.cs, fs, w[k - 1], w[k], 0.0, 2.0 * kPi);
     // The turns in place before it are made on it too.
     while (lead && out.waypoints.size() >= 2 &&
            (out.waypoints.back() - out.waypoints[out.waypoints.size() - 2]).norm() < 1e-9)
@@ -169,6 +171,37 @@ double nearestRepresentative(double y, double ref)
   return ref + mrpt::math::wrapToPi(2.0 * (y - ref)) / 2.0;
 }
 }  // namespace
+
+bool turnClearAlong(const CollisionSpace& cs, const FootprintSpace& fs, const Eigen::Vector2d& a,
+                    const Eigen::Vector2d& b, double yaw0, double yaw1, bool in_proportion)
+{
+  // The bins of the yaws from y0 to y1 (unwrapped: that way round).
+  const auto binsBetween = [&](double y0, double y1)
+  {
+    const int steps = static_cast<int>(std::ceil(std::abs(y1 - y0) / fs.binWidth() - 1e-9));
+    const int dir = y1 >= y0 ? 1 : -1;
+    const int b0 = fs.binOf(y0);
+    YawMask m = YawMask(1) << fs.binOf(y1);
+    for (int k = 0; k <= steps && k < fs.bins; ++k)
+      m |= YawMask(1) << (((b0 + dir * k) % fs.bins + fs.bins) % fs.bins);
+    return m;
+  };
+  const YawMask all = binsBetween(yaw0, yaw1);
+  const auto nx = static_cast<std::size_t>(cs.state.getSizeX());
+  const int n = std::max(1, static_cast<int>(std::ceil((b - a).norm() / (0.5 * cs.state.getResolution()))));
+  for (int k = 0; k <= n; ++k)
+  {
+    Cell c;
+    if (!cellOf(cs.state, a + (b - a) * (static_cast<double>(k) / n), c)) return false;
+    // In proportion: the yaws within one sample either side of this one's.
+    const YawMask need = !in_proportion ? all
+                                        : binsBetween(yaw0 + (yaw1 - yaw0) * std::max(0, k - 1) / n,
+                                                      yaw0 + (yaw1 - yaw0) * std::min(n, k + 1) / n);
+    const std::size_t i = static_cast<std::size_t>(c.cx) + static_cast<std::size_t>(c.cy) * nx;
+    if ((fs.clear_turn.data()[i] & need) != need) return false;
+  }
+  return true;
+}
 
 std::optional<Path> planFootprintPath(
     const CollisionSpace& cs, const FootprintSpace& fs, const mrpt::poses::CPose2D& start,

@@ -243,12 +243,13 @@ exploration::PlanResult ExplorationLoop::planNow(std::size_t step,
                            looks_.get());
 }
 
-ExplorationLoop::Drive ExplorationLoop::driveWaypoints(const exploration::PlanResult& plan)
+ExplorationLoop::Drive ExplorationLoop::driveWaypoints(exploration::PlanResult& plan)
 {
   const auto& wps = plan.waypoints;
   const bool continuous = params_.scan_mode == ExplorationLoopParams::ScanMode::Continuous;
   for (std::size_t i = 0; i < wps.size(); i++)
   {
+    if (continuous) leadInOnTheWay(plan, i);
     const bool last = i + 1 == wps.size();
     const std::optional<double> final_yaw =
         last ? std::optional<double>(plan.target.phi()) : std::nullopt;

@@ -141,6 +141,16 @@ std::optional<Path> planFootprintPath(
     const Eigen::Vector2d& goal, double goal_yaw, const PathParams& p,
     const std::vector<float>* cost_from_start = nullptr);
 
+/// @brief Does the rectangle keep the turn margin (FootprintSpace::clear_turn,
+///        whole bins) at every yaw from yaw0 to yaw1 (unwrapped: that way
+///        round; a whole turn or more: every yaw) all along a-b (samples half
+///        a cell apart)? False where a-b leaves the grid.
+/// @param in_proportion Only at the yaws of a turn made in proportion to
+///        the way (StopAndScanDriver's turn on the way): at each sample, the
+///        yaws from the one a sample before to the one a sample after.
+bool turnClearAlong(const CollisionSpace& cs, const FootprintSpace& fs, const Eigen::Vector2d& a,
+                    const Eigen::Vector2d& b, double yaw0, double yaw1, bool in_proportion = false);
+
 /// @brief Per cell (row-major over cs.state), a lower bound of the cost
 ///        planFootprintPath pays from fs.robot's cell to it: a Dijkstra over the
 ///        cells holding a reached or escape state, a step costing its length

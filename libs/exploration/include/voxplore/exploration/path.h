@@ -26,7 +26,10 @@ struct PathParams : public mrpt::config::CLoadableOptions
   double footprint_heuristic_weight = 1.1;
   /// Footprint paths: a turn in place of at most this much, before a
   /// translation, is made on that translation instead (Path::turn_on_way)
-  /// where the rectangle keeps the turn margin at every yaw between along it
+  /// where the rectangle keeps the turn margin at every yaw between along it,
+  /// else on the footprint translation before it; and a translation where
+  /// every yaw keeps it, before a narrow one or at the goal, turns to the yaw
+  /// needed there from any yaw (a lead-in, Path::kTurnFromAnyYaw)
   /// (scanning while driving, issue 15: turns in place took a quarter of a
   /// continuous run's time). 0 = off; < 0 (auto, "auto" in the ini) = off
   /// here, resolved by the exploration loop by its scan mode [deg].

@@ -230,8 +230,16 @@ class ExplorationLoop
     Interrupted,  ///< a low obstacle seen on the way (low_obstacle_replan)
     TargetSeen,   ///< the plan's frontier seen on the way (replan_on_the_way); the robot moves
   };
-  /// The caller replans unless Reached.
-  Drive driveWaypoints(const exploration::PlanResult& plan);
+  /// The caller replans unless Reached. Lead-ins made on the way change
+  /// the plan's waypoints (leadInOnTheWay).
+  Drive driveWaypoints(exploration::PlanResult& plan);
+  /// scan_mode = continuous with turns on the way: a circle waypoint i
+  /// before a footprint one (after turns in place or not), where the
+  /// rectangle keeps the turn margin at every yaw from the robot's to the
+  /// footprint drive's all along the way there, is driven as a lead-in
+  /// (the planner's lead-ins, Path::kTurnFromAnyYaw, hold every yaw; this
+  /// one the robot's, known only now); the turns in place are erased.
+  void leadInOnTheWay(exploration::PlanResult& plan, std::size_t i) const;
   /// low_obstacle_replan: whether a low obstacle cell not in low_at_plan_
   /// lies within reach of the path from waypoint `from` on.
   bool lowObstacleAhead(const exploration::PlanResult& plan, std::size_t from) const;
