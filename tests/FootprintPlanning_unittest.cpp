@@ -248,8 +248,8 @@ TEST(FootprintSpace, TurnsOnTheWayReplaceTurnsInPlaceAndNeverClip)
 
 // Lead-ins (issue 15): the wide way before the door, which MRPT's reactive
 // drive would end facing its own direction of travel, turns to the door's
-// yaw on the way, from any yaw; the last wide way turns to the goal's yaw.
-// No turn in place is left, and no yaw clips a wall on a lead-in.
+// yaw on the way, from any yaw; the last wide way turns to the goal's yaw
+// (no turn in place at the goal). No yaw clips a wall on a lead-in.
 TEST(FootprintSpace, LeadInsTurnOnTheWideWayToThePassageAndToTheGoalYaw)
 {
   GroundGrid g = twoRoomsWithADoor(0.90);

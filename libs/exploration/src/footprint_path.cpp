@@ -61,7 +61,8 @@ void appendTurn(Path& path, const SE2Search& s, double yaw)
 
 /// Turns in place of at most max_rad followed by a translation in a narrow
 /// passage (a footprint drive) are made on that translation instead, where
-/// turnClearAlong() holds, or else on the footprint translation before them:
+/// turnClearAlong() holds for a turn in proportion to the way (the driver's),
+/// or else on the footprint translation before them:
 /// the drive turns while it translates and does not stop
 /// (PathParams::turn_on_the_way_deg). Our own: the SE(2) search plans turns
 /// in place only.
@@ -83,9 +84,9 @@ void turnOnTheWay(Path& path, const SE2Search& s, const FootprintSpace& fs, doub
                        path.yaws[m] == path.yaws[m - 1] &&
                        std::abs(path.yaws[m - 1] - path.yaws[k - 1]) <= max_rad &&
                        turnClearAlong(s.cs, fs, w[k - 1], w[m], path.yaws[k - 1], path.yaws[m - 1], true);
-    // Else onto the footprint translation before, where the turn layer
-    // holds every yaw between along it: the robot arrives turned.
-    // (Its own turn on the way, if it has one, and this one together.)
+    // Else onto the footprint translation before (with its own turn on the
+    // way, if it has one), where the turn layer holds the yaws of a turn in
+    // proportion to the way: the robot arrives turned.
     const std::size_t o = out.waypoints.size();
     const double y0 = o >= 2 && out.turn_on_way.back() ? out.yaws[o - 2] : out.yaws.back();
     const bool back = !merge && m > k && o >= 2 && path.narrow[k - 1] &&
