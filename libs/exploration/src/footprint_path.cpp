@@ -110,6 +110,18 @@ void turnOnTheWay(Path& path, const SE2Search& s, const FootprintSpace& fs, doub
   path = std::move(out);
 }
 
+/// Erases waypoints [first, last) from the four parallel vectors.
+void eraseWaypoints(std::vector<Eigen::Vector2d>& w, std::vector<double>& yaws,
+                    std::vector<uint8_t>& narrow, std::vector<uint8_t>& turn_on_way,
+                    std::size_t first, std::size_t last)
+{
+  const auto f = static_cast<std::ptrdiff_t>(first), l = static_cast<std::ptrdiff_t>(last);
+  w.erase(w.begin() + f, w.begin() + l);
+  yaws.erase(yaws.begin() + f, yaws.begin() + l);
+  narrow.erase(narrow.begin() + f, narrow.begin() + l);
+  turn_on_way.erase(turn_on_way.begin() + f, turn_on_way.begin() + l);
+}
+
 /// A translation along which the turn layer holds every yaw (a wide way:
 /// MRPT's reactive drive, whose holonomic PTG faces the way it goes, or a
 /// wide piece of a narrow shortcut), followed by a narrow translation (after
@@ -122,48 +134,25 @@ void turnOnTheWay(Path& path, const SE2Search& s, const FootprintSpace& fs, doub
 /// as turnOnTheWay().
 void leadInTurns(Path& path, const SE2Search& s, const FootprintSpace& fs)
 {
-  const auto& w = path.waypoints;
-  const std::size_t n = w.size();
-  Path out = path;
-  out.waypoints.assign(1, w[0]);
-  out.yaws.assign(1, path.yaws[0]);
-  out.narrow.assign(1, path.narrow[0]);
-  out.turn_on_way.assign(1, 0);
-  bool turned_before = false;  // the last lead-in turned to this translation's yaw already
-  for (std::size_t k = 1; k < n;)
+  auto& w = path.waypoints;
+  for (std::size_t k = 1; k < w.size(); ++k)
   {
-    std::size_t m = k + 1;  // the next translation, after the turns in place at w[k]
-    while (m < n && (w[m] - w[k]).norm() < 1e-9) ++m;
+    const std::size_t m = nextTranslation(w, k);
     // A piece of a narrow translation may be wide too (its flag is the
     // whole shortcut's): the turn layer decides.
-    const bool lead = (w[k] - w[k - 1]).norm() > 1e-9 && (m == n || path.narrow[m]) &&
-                      turnClearAlong(s.cs, fs, w[k - 1], w[k], 0.0, 2.0 * kPi);
-    // The turns in place before it are made on it too.
-    while (lead && out.waypoints.size() >= 2 &&
-           (out.waypoints.back() - out.waypoints[out.waypoints.size() - 2]).norm() < 1e-9)
-    {
-      out.waypoints.pop_back();
-      out.yaws.pop_back();
-      out.narrow.pop_back();
-      out.turn_on_way.pop_back();
-    }
-    out.waypoints.push_back(w[k]);
-    out.narrow.push_back(lead ? 1 : path.narrow[k]);
-    out.turn_on_way.push_back(lead ? Path::kTurnFromAnyYaw : turned_before ? 0 : path.turn_on_way[k]);
-    turned_before = false;
-    if (!lead)
-    {
-      out.yaws.push_back(path.yaws[k]);
-      ++k;
+    if (!((w[k] - w[k - 1]).norm() > 1e-9 && (m == w.size() || path.narrow[m]) &&
+          turnClearAlong(s.cs, fs, w[k - 1], w[k], 0.0, 2.0 * kPi)))
       continue;
-    }
     // The yaw of the next translation (the turn it made on its way, too),
     // or the goal's.
-    out.yaws.push_back(m < n ? path.yaws[m] : path.final_yaw.value_or(path.yaws[n - 1]));
-    turned_before = m < n;
-    k = m;
+    const double yaw = m < w.size() ? path.yaws[m] : path.final_yaw.value_or(path.yaws.back());
+    makeLeadIn(w, path.yaws, path.narrow, path.turn_on_way, k, m, yaw);
+    // The turns in place before it are made on it too.
+    std::size_t j = k - 1;  // the first waypoint at its start
+    while (j > 0 && (w[j] - w[j - 1]).norm() < 1e-9) --j;
+    eraseWaypoints(w, path.yaws, path.narrow, path.turn_on_way, j + 1, k);
+    k = j + 1;
   }
-  path = std::move(out);
 }
 
 /// The half turn of yaw `y` nearest `ref`.
@@ -172,6 +161,24 @@ double nearestRepresentative(double y, double ref)
   return ref + mrpt::math::wrapToPi(2.0 * (y - ref)) / 2.0;
 }
 }  // namespace
+
+std::size_t nextTranslation(const std::vector<Eigen::Vector2d>& w, std::size_t k)
+{
+  std::size_t m = k + 1;
+  while (m < w.size() && (w[m] - w[k]).norm() < 1e-9) ++m;
+  return m;
+}
+
+void makeLeadIn(std::vector<Eigen::Vector2d>& w, std::vector<double>& yaws,
+                std::vector<uint8_t>& narrow, std::vector<uint8_t>& turn_on_way, std::size_t k,
+                std::size_t m, double yaw)
+{
+  narrow[k] = 1;
+  turn_on_way[k] = Path::kTurnFromAnyYaw;
+  yaws[k] = yaw;
+  if (m < w.size() && turn_on_way[m] == Path::kTurnFromPrevious) turn_on_way[m] = 0;
+  eraseWaypoints(w, yaws, narrow, turn_on_way, k + 1, m);
+}
 
 bool turnClearAlong(const CollisionSpace& cs, const FootprintSpace& fs, const Eigen::Vector2d& a,
                     const Eigen::Vector2d& b, double yaw0, double yaw1, bool in_proportion)

@@ -171,14 +171,12 @@ std::optional<ExplorationLoop::Pass> ExplorationLoop::passTolerance(const explor
 
 void ExplorationLoop::leadInOnTheWay(exploration::PlanResult& plan, std::size_t i) const
 {
-  using exploration::Path;
   auto& w = plan.waypoints;
   if (!(planner_.path.turn_on_the_way_deg > 0) || !plan.footprint || !plan.space ||
       plan.waypoint_narrow.size() != w.size() || plan.waypoint_turn_on_way.size() != w.size() ||
       plan.waypoint_yaws.size() != w.size() || i + 1 >= w.size() || plan.waypoint_narrow[i])
     return;
-  std::size_t m = i + 1;  // the next translation, after the turns in place at w[i]
-  while (m < w.size() && (w[m] - w[i]).norm() < 1e-9) ++m;
+  const std::size_t m = exploration::nextTranslation(w, i);
   if (m == w.size() || !plan.waypoint_narrow[m]) return;
   const mrpt::poses::CPose2D p = poseEstimate();
   const Eigen::Vector2d from(p.x(), p.y());
@@ -188,17 +186,8 @@ void ExplorationLoop::leadInOnTheWay(exploration::PlanResult& plan, std::size_t 
   if (!exploration::turnClearAlong(*plan.space, *plan.footprint, from, w[i], p.phi(),
                                    p.phi() + mrpt::math::wrapToPi(yaw - p.phi()), true))
     return;
-  plan.waypoint_narrow[i] = 1;
-  plan.waypoint_turn_on_way[i] = Path::kTurnFromAnyYaw;
-  plan.waypoint_yaws[i] = yaw;
-  // The robot arrives in the yaw the drive to w[m] holds: it turns no more.
-  if (plan.waypoint_turn_on_way[m] == Path::kTurnFromPrevious) plan.waypoint_turn_on_way[m] = 0;
-  const auto first = static_cast<std::ptrdiff_t>(i + 1), last = static_cast<std::ptrdiff_t>(m);
-  w.erase(w.begin() + first, w.begin() + last);
-  plan.waypoint_yaws.erase(plan.waypoint_yaws.begin() + first, plan.waypoint_yaws.begin() + last);
-  plan.waypoint_narrow.erase(plan.waypoint_narrow.begin() + first, plan.waypoint_narrow.begin() + last);
-  plan.waypoint_turn_on_way.erase(plan.waypoint_turn_on_way.begin() + first,
-                                  plan.waypoint_turn_on_way.begin() + last);
+  exploration::makeLeadIn(w, plan.waypoint_yaws, plan.waypoint_narrow, plan.waypoint_turn_on_way, i,
+                          m, yaw);
 }
 
 bool ExplorationLoop::scanDue() const

@@ -151,6 +151,19 @@ std::optional<Path> planFootprintPath(
 bool turnClearAlong(const CollisionSpace& cs, const FootprintSpace& fs, const Eigen::Vector2d& a,
                     const Eigen::Vector2d& b, double yaw0, double yaw1, bool in_proportion = false);
 
+/// @brief The first waypoint after waypoint k not at its position (after the
+///        turns in place there); w.size() when there is none.
+std::size_t nextTranslation(const std::vector<Eigen::Vector2d>& w, std::size_t k);
+
+/// @brief Makes waypoint k of a footprint path (Path's or PlanResult's
+///        parallel vectors) a lead-in to `yaw` (a footprint drive,
+///        Path::kTurnFromAnyYaw) and erases waypoints k+1..m-1 (its turns in
+///        place); waypoint m (< w.size()), when it turned on its way there
+///        (Path::kTurnFromPrevious), turns no more: the robot arrives in its yaw.
+void makeLeadIn(std::vector<Eigen::Vector2d>& w, std::vector<double>& yaws,
+                std::vector<uint8_t>& narrow, std::vector<uint8_t>& turn_on_way, std::size_t k,
+                std::size_t m, double yaw);
+
 /// @brief Per cell (row-major over cs.state), a lower bound of the cost
 ///        planFootprintPath pays from fs.robot's cell to it: a Dijkstra over the
 ///        cells holding a reached or escape state, a step costing its length
