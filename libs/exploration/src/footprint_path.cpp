@@ -77,9 +77,8 @@ void turnOnTheWay(Path& path, const SE2Search& s, const FootprintSpace& fs, doub
   std::size_t k = 1;
   while (k < w.size())
   {
-    // Waypoints k..m turn in place at w[k - 1]; m + 1 translates from there.
-    std::size_t m = k;
-    while (m < w.size() && (w[m] - w[k - 1]).norm() < 1e-9) ++m;
+    // Waypoints k..m-1 turn in place at w[k - 1]; m translates from there.
+    const std::size_t m = nextTranslation(w, k - 1);
     const bool merge = m > k && m < w.size() && path.narrow[m] &&
                        path.yaws[m] == path.yaws[m - 1] &&
                        std::abs(path.yaws[m - 1] - path.yaws[k - 1]) <= max_rad &&
