@@ -319,6 +319,54 @@ TEST(FootprintSpace, TurnsOnTheWayNeverClipFromAnyStart)
   EXPECT_GE(on_the_way, paths);
 }
 
+// A turn of a bin or two at a passage's mouth, which the turn layer holds
+// neither all along the way into the door nor along the way before it, is
+// made on the part of the way in where it does (partial turns): the robot
+// no longer stops at the mouth to turn in place. No yaw on the way clips.
+TEST(FootprintSpace, ATurnAtAPassagesMouthIsMadeOnPartOfTheWayIn)
+{
+  GroundGrid g = twoRoomsWithADoor(0.90);
+  PathParams on_way;
+  on_way.turn_on_the_way_deg = 150;
+  PathParams in_place;
+  in_place.turn_on_the_way_deg = 0;
+  // Turns in place with the rectangle's centre at the door's mouth, in the
+  // first room (within 0.6 m of the wall).
+  const auto turnsAtTheDoor = [](const Path& p)
+  {
+    std::size_t n = 0;
+    for (std::size_t k = 1; k < p.waypoints.size(); ++k)
+      n += (p.waypoints[k] - p.waypoints[k - 1]).norm() < 1e-9 && p.yaws[k] != p.yaws[k - 1] &&
+           p.waypoints[k].x() > -0.6 && p.waypoints[k].x() < 0.0;
+    return n;
+  };
+  std::size_t split = 0;
+  for (const double y : {-0.6, 0.6})
+    for (const double yaw : {0.0, M_PI / 2, M_PI})
+    {
+      const CPose2D start(-1.2, y, yaw);
+      const Planned pl = footprintSpaceOf(g, start);
+      const auto before = planFootprintPath(pl.cs, pl.fs, start, {1.6, 0.8}, yaw + 1.0, in_place);
+      const auto path = planFootprintPath(pl.cs, pl.fs, start, {1.6, 0.8}, yaw + 1.0, on_way);
+      ASSERT_TRUE(before && path);
+      EXPECT_GE(turnsAtTheDoor(*before), 1u) << "start " << y << ", " << yaw;
+      EXPECT_EQ(turnsAtTheDoor(*path), 0u) << "start " << y << ", " << yaw;
+      expectNeverClips(g, *path);
+      // The way into the door: held first, turned on the rest of it.
+      for (std::size_t k = 2; k < path->waypoints.size(); ++k)
+      {
+        const Eigen::Vector2d a = path->waypoints[k - 1] - path->waypoints[k - 2],
+                              b = path->waypoints[k] - path->waypoints[k - 1];
+        if (path->turn_on_way[k] == Path::kTurnFromPrevious && path->turn_on_way[k - 1] == 0 &&
+            a.norm() > 1e-9 && b.norm() > 1e-9 && std::abs(a.x() * b.y() - a.y() * b.x()) < 1e-9 &&
+            path->narrow[k - 1] && path->narrow[k] && path->yaws[k - 1] == path->yaws[k - 2] &&
+            path->waypoints[k].x() < 0.1)
+          ++split;
+      }
+    }
+  EXPECT_GE(split, 6u);
+}
+
 TEST(FootprintSpace, ASeventyCentimetreDoorIsRefused)
 {
   GroundGrid g = twoRoomsWithADoor(0.70);

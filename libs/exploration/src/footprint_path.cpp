@@ -11,6 +11,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <optional>
 #include <vector>
 
 namespace voxplore::exploration
@@ -59,10 +60,63 @@ void appendTurn(Path& path, const SE2Search& s, double yaw)
   }
 }
 
+/// Does the rectangle hold `yaw` (FootprintSpace::clear, its bin) all along
+/// a-b (samples half a cell apart)?
+bool holdClearAlong(const CollisionSpace& cs, const FootprintSpace& fs, const Eigen::Vector2d& a,
+                    const Eigen::Vector2d& b, double yaw)
+{
+  const YawMask bit = YawMask(1) << fs.binOf(yaw);
+  const auto nx = static_cast<std::size_t>(cs.state.getSizeX());
+  const int n = std::max(1, static_cast<int>(std::ceil((b - a).norm() / (0.5 * cs.state.getResolution()))));
+  for (int k = 0; k <= n; ++k)
+  {
+    Cell c;
+    if (!cellOf(cs.state, a + (b - a) * (static_cast<double>(k) / n), c)) return false;
+    if (!(fs.clear.data()[static_cast<std::size_t>(c.cx) + static_cast<std::size_t>(c.cy) * nx] & bit))
+      return false;
+  }
+  return true;
+}
+
+struct Split
+{
+  Eigen::Vector2d point;
+  bool before = false;  ///< on the translation before the corner (else after it)
+};
+
+/// A turn in place from y0 to y1 at the corner `out`.waypoints.back()
+/// between two footprint translations (the one before ends there, `next` is
+/// the end of the one after) made in proportion on a part of one of them:
+/// from a split point to `next` (holding y0 from the corner to it), or from
+/// a split point of the translation before to the corner (holding y0 up to
+/// it); the longest part turnClearAlong() holds, at quarters of the way.
+/// Our own, as turnOnTheWay().
+std::optional<Split> partialTurn(const CollisionSpace& cs, const FootprintSpace& fs, const Path& out,
+                                 const Eigen::Vector2d& next, double y0, double y1)
+{
+  const std::size_t o = out.waypoints.size();
+  const Eigen::Vector2d corner = out.waypoints.back();
+  for (const double f : {0.25, 0.5, 0.75})
+  {
+    const Eigen::Vector2d s = corner + f * (next - corner);
+    if (holdClearAlong(cs, fs, corner, s, y0) && turnClearAlong(cs, fs, s, next, y0, y1, true))
+      return Split{s, false};
+  }
+  if (o < 2 || out.turn_on_way.back() || (corner - out.waypoints[o - 2]).norm() < 1e-9) return std::nullopt;
+  const Eigen::Vector2d prev = out.waypoints[o - 2];
+  for (const double f : {0.25, 0.5, 0.75})
+  {
+    const Eigen::Vector2d s = prev + f * (corner - prev);
+    if (turnClearAlong(cs, fs, s, corner, y0, y1, true)) return Split{s, true};
+  }
+  return std::nullopt;
+}
+
 /// Turns in place of at most max_rad followed by a translation in a narrow
 /// passage (a footprint drive) are made on that translation instead, where
 /// turnClearAlong() holds for a turn in proportion to the way (the driver's),
-/// or else on the footprint translation before them:
+/// or else on the footprint translation before them, or else on a part of
+/// either (partialTurn):
 /// the drive turns while it translates and does not stop
 /// (PathParams::turn_on_the_way_deg). Our own: the SE(2) search plans turns
 /// in place only.
@@ -98,6 +152,40 @@ void turnOnTheWay(Path& path, const SE2Search& s, const FootprintSpace& fs, doub
       out.turn_on_way.back() = Path::kTurnFromPrevious;
       k = m;  // drop the turns; w[m] translates on from there
       continue;
+    }
+    const double yc = out.yaws.back();  // the yaw at the corner
+    if (!merge && m > k && m < w.size() && path.narrow[m] && path.narrow[k - 1] &&
+        path.yaws[m] == path.yaws[m - 1] && std::abs(path.yaws[m - 1] - yc) <= max_rad)
+    {
+      // Else on a part of either translation: the turn layer round the
+      // passage's mouth often holds no turn, a little way off it does.
+      if (const auto split = partialTurn(s.cs, fs, out, w[m], yc, path.yaws[m - 1]))
+      {
+        if (split->before)
+        {
+          // Hold the yaw to the split, turn from there to the corner.
+          const auto at = static_cast<std::ptrdiff_t>(o - 1);
+          out.waypoints.insert(out.waypoints.begin() + at, split->point);
+          out.yaws.insert(out.yaws.begin() + at, yc);
+          out.narrow.insert(out.narrow.begin() + at, uint8_t(1));
+          out.turn_on_way.insert(out.turn_on_way.begin() + at, uint8_t(0));
+          out.yaws.back() = path.yaws[m - 1];
+          out.turn_on_way.back() = Path::kTurnFromPrevious;
+          k = m;
+          continue;
+        }
+        // Hold the yaw from the corner to the split, turn from there on.
+        out.waypoints.push_back(split->point);
+        out.yaws.push_back(yc);
+        out.narrow.push_back(1);
+        out.turn_on_way.push_back(0);
+        out.waypoints.push_back(w[m]);
+        out.yaws.push_back(path.yaws[m]);
+        out.narrow.push_back(path.narrow[m]);
+        out.turn_on_way.push_back(Path::kTurnFromPrevious);
+        k = m + 1;
+        continue;
+      }
     }
     if (merge) k = m;  // drop the turns; w[m] turns on the way
     out.waypoints.push_back(w[k]);
