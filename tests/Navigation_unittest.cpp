@@ -509,6 +509,48 @@ TEST(StopAndScanDriver, AFinalYawWithAPeriodTurnsToTheNearestEquivalentYaw)
   EXPECT_LT(t[1], t[0]);
 }
 
+// Continuous mode with turns on the way: a reactive drive told a yaw to face
+// turns the robot to it on the way (MRPT's own heading faces the way it
+// goes): a pass arrives turned, moving, and a drive that stops there needs
+// no turn at its end.
+TEST(StopAndScanDriver, AReactiveDriveFacingAYawArrivesTurnedAndSooner)
+{
+  // From the start (2, 4) south to (2, 2): MRPT's heading turns to -90 deg.
+  const double want = 0.0;
+  {
+    SimRig rig("omnirob");
+    const auto r = rig.driver->passBy({2.0, 2.0}, 0.15, want);
+    ASSERT_EQ(r.outcome, DriveOutcome::Reached) << r.message;
+    const double yaw = rig.sim->robot().groundTruth().phi();
+    EXPECT_LE(std::abs(mrpt::math::wrapToPi(yaw - want)), mrpt::DEG2RAD(2.0)) << mrpt::RAD2DEG(yaw);
+    const auto v = rig.robot->velocity();
+    EXPECT_GT(std::hypot(v.vx, v.vy), 0.1);
+    EXPECT_EQ(rig.collisions(), 0u);
+    // Facing no more once the drive is over: MRPT's own heading again.
+    SimRig plain("omnirob");
+    const auto q = plain.driver->passBy({2.0, 2.0}, 0.15);
+    ASSERT_EQ(q.outcome, DriveOutcome::Reached) << q.message;
+    EXPECT_GT(std::abs(mrpt::math::wrapToPi(plain.sim->robot().groundTruth().phi() - want)),
+              mrpt::DEG2RAD(45.0));
+  }
+  double t[2];
+  for (const bool face : {false, true})
+  {
+    SimRig rig("omnirob");
+    const auto r = rig.driver->driveTo({2.0, 2.0}, want, 0.0,
+                                       face ? std::optional<double>(want) : std::nullopt);
+    ASSERT_EQ(r.outcome, DriveOutcome::Reached) << r.message;
+    EXPECT_LE(std::abs(mrpt::math::wrapToPi(rig.sim->robot().groundTruth().phi() - want)),
+              rig.driver->params().yaw_tolerance);
+    EXPECT_LE(r.goal_distance_m, rig.driver->params().goal_tolerance_m);
+    EXPECT_EQ(rig.collisions(), 0u);
+    t[face] = r.sim_time_s;
+  }
+  std::cout << "[ facing ] to (2, 2), then 0 deg: " << t[0] << " s; facing 0 deg on the way: "
+            << t[1] << " s" << std::endl;
+  EXPECT_LT(t[1], t[0] - 1.0);
+}
+
 TEST(StopAndScanDriver, UnreachableWaypointsEndBlockedWithoutCollision)
 {
   // Inside the cabinet against the south wall, and behind the south wall.

@@ -264,8 +264,8 @@ ExplorationLoop::Drive ExplorationLoop::driveWaypoints(exploration::PlanResult& 
     const auto r = narrow ? (pass ? driver_->passFootprint(wps[i], plan.waypoint_yaws[i], pass_tol->tolerance_m, turn,
                                                            pass_tol->corner_speed_mps)
                                   : driver_->driveFootprint(wps[i], plan.waypoint_yaws[i], final_yaw, turn))
-                   : pass ? driver_->passBy(wps[i], pass_tol->tolerance_m)
-                          : driver_->driveTo(wps[i], final_yaw, view_period_);
+                   : pass ? driver_->passBy(wps[i], pass_tol->tolerance_m, faceYaw(plan, i))
+                          : driver_->driveTo(wps[i], final_yaw, view_period_, faceYaw(plan, i));
     settleScan();  // the checks below read the map
     status_.guard_scaled = driver_->guardScaledCommands();
     status_.guard_held = driver_->guardHeldCommands();

@@ -190,6 +190,23 @@ void ExplorationLoop::leadInOnTheWay(exploration::PlanResult& plan, std::size_t 
                           m, yaw);
 }
 
+std::optional<double> ExplorationLoop::faceYaw(const exploration::PlanResult& plan,
+                                               std::size_t i) const
+{
+  const auto& w = plan.waypoints;
+  if (params_.scan_mode != ExplorationLoopParams::ScanMode::Continuous ||
+      !(planner_.path.turn_on_the_way_deg > 0) || !plan.footprint ||
+      plan.waypoint_narrow.size() != w.size() || plan.waypoint_turn_on_way.size() != w.size() ||
+      plan.waypoint_yaws.size() != w.size())
+    return std::nullopt;
+  for (std::size_t m = i + 1; m < w.size(); ++m)
+    if (plan.waypoint_narrow[m])  // a turn on its way starts from the yaw before
+      return plan.waypoint_turn_on_way[m] == exploration::Path::kTurnFromPrevious
+                 ? plan.waypoint_yaws[m - 1]
+                 : plan.waypoint_yaws[m];
+  return plan.target.phi();
+}
+
 bool ExplorationLoop::scanDue() const
 {
   if (mrpt::Clock::toDouble(robot_.now()) - t_last_scan_s_ < 1.0 / params_.scan_rate_hz - 1e-9)

@@ -2,7 +2,9 @@
 
 #include <mrpt/kinematics/CVehicleVelCmd_Holo.h>
 
+#include <algorithm>
 #include <cmath>
+#include <limits>
 #include <cstdint>
 #include <unordered_set>
 
@@ -20,7 +22,13 @@ void RobotNavAdapter::applyCommand(double dt_s)
     robot_.stop();
     return;
   }
-  const auto twist = holoTwistAt(ramp_, nowSeconds(), dt_s, robot_.pose().phi());
+  HoloRamp ramp = ramp_;
+  if (heading_ && nearestObstacleM() > heading_clear_m_)
+  {
+    ramp.dir_rad = *heading_;
+    ramp.rot_speed_radps = heading_radps_;
+  }
+  const auto twist = holoTwistAt(ramp, nowSeconds(), dt_s, robot_.pose().phi());
   robot_.setVelocity(twist.vx, twist.vy, twist.omega);
 }
 
@@ -28,6 +36,24 @@ void RobotNavAdapter::clearCommand()
 {
   moving_ = false;
   ramp_ = stoppedHoloRamp(nowSeconds());
+}
+
+void RobotNavAdapter::setHeading(std::optional<double> yaw_rad, double rot_speed_radps,
+                                 double clear_m)
+{
+  heading_ = yaw_rad;
+  heading_radps_ = rot_speed_radps;
+  heading_clear_m_ = clear_m;
+}
+
+double RobotNavAdapter::nearestObstacleM() const
+{
+  const auto& xs = last_obstacles_.getPointsBufferRef_x();
+  const auto& ys = last_obstacles_.getPointsBufferRef_y();
+  double d2 = std::numeric_limits<double>::infinity();
+  for (std::size_t i = 0; i < xs.size(); i++)
+    d2 = std::min(d2, static_cast<double>(xs[i]) * xs[i] + static_cast<double>(ys[i]) * ys[i]);
+  return std::sqrt(d2);
 }
 
 bool RobotNavAdapter::getCurrentPoseAndSpeeds(mrpt::math::TPose2D& pose,

@@ -5,6 +5,7 @@
 #include <voxplore/navigation/RobotInterface.h>
 #include <voxplore/navigation/holo_ramp.h>
 
+#include <optional>
 #include <string>
 
 namespace voxplore::navigation
@@ -42,6 +43,17 @@ class RobotNavAdapter : public mrpt::nav::CRobot2NavInterface
   /// @brief Forgets the command being executed (the robot stands still).
   void clearCommand();
 
+  /// @brief While set, the heading turns to `yaw_rad` (map frame) at up to
+  ///        `rot_speed_radps` instead of to the command's direction of
+  ///        travel; the translation (map frame) is the command's. For a
+  ///        robot MRPT plans as a circle, any heading is the same to it.
+  ///        Only while every sensed obstacle point (senseObstacles()) is
+  ///        farther than `clear_m` from the robot's centre; nearer, MRPT's
+  ///        heading (a rectangle turned across a corridor brings its corners
+  ///        near the walls, and the footprint guard would slow the whole
+  ///        command down).
+  void setHeading(std::optional<double> yaw_rad, double rot_speed_radps = 0, double clear_m = 0);
+
   /// @brief The obstacle points MRPT got in the last senseObstacles() (after
   ///        thinning), in the robot frame at lastObstaclesPose().
   const mrpt::maps::CSimplePointsMap& lastObstacles() const { return last_obstacles_; }
@@ -74,8 +86,13 @@ class RobotNavAdapter : public mrpt::nav::CRobot2NavInterface
   double nowSeconds() const;
 
   RobotInterface& robot_;
+  /// Distance from the robot's centre to the nearest point of the last
+  /// senseObstacles() [m]; +infinity without any.
+  double nearestObstacleM() const;
   HoloRamp ramp_;
   bool moving_ = false;
+  std::optional<double> heading_;  ///< setHeading()
+  double heading_radps_ = 0, heading_clear_m_ = 0;
   double nav_timer_start_s_ = 0;
   NavEvents events_;
   double max_range_m_ = 1e9, cell_m_ = 0, z_min_m_ = -1e9, z_max_m_ = 1e9;

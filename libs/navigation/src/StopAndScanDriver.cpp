@@ -301,21 +301,24 @@ Ending checkAfterStep(const RobotInterface& robot, const DriverParams& params, D
 
 DriveResult StopAndScanDriver::driveTo(const Eigen::Vector2d& waypoint,
                                        std::optional<double> final_yaw_rad,
-                                       double final_yaw_period_rad)
+                                       double final_yaw_period_rad,
+                                       std::optional<double> face_yaw_rad)
 {
-  return reactiveDrive(waypoint, final_yaw_rad, -1.0, final_yaw_period_rad);
+  return reactiveDrive(waypoint, final_yaw_rad, -1.0, final_yaw_period_rad, face_yaw_rad);
 }
 
-DriveResult StopAndScanDriver::passBy(const Eigen::Vector2d& waypoint, double tolerance_m)
+DriveResult StopAndScanDriver::passBy(const Eigen::Vector2d& waypoint, double tolerance_m,
+                                      std::optional<double> face_yaw_rad)
 {
   if (!(tolerance_m > 0))
     throw std::invalid_argument("StopAndScanDriver::passBy: tolerance_m must be > 0");
-  return reactiveDrive(waypoint, std::nullopt, tolerance_m);
+  return reactiveDrive(waypoint, std::nullopt, tolerance_m, 0, face_yaw_rad);
 }
 
 DriveResult StopAndScanDriver::reactiveDrive(const Eigen::Vector2d& waypoint,
                                              std::optional<double> final_yaw_rad,
-                                             double pass_tolerance_m, double final_yaw_period_rad)
+                                             double pass_tolerance_m, double final_yaw_period_rad,
+                                             std::optional<double> face_yaw_rad)
 {
   checkClocks(robot_);
   const bool pass = pass_tolerance_m > 0;
@@ -331,6 +334,11 @@ DriveResult StopAndScanDriver::reactiveDrive(const Eigen::Vector2d& waypoint,
   if (nav.getCurrentState() == CAbstractNavigator::NAV_ERROR) nav.resetNavError();
   adapter.resetEvents();
   adapter.clearCommand();  // the navigator's first command ramps from the robot's velocity
+  // Turned to face_yaw_rad where any yaw keeps the guard's margin over its
+  // horizon from every sensed point.
+  adapter.setHeading(face_yaw_rad, params_.max_w,
+                     params_.robotRadius() + params_.guard_margin_m +
+                         params_.max_v_mps * params_.guard_horizon_s);
 
   CAbstractNavigator::TNavigationParams np;
   np.target.target_coords = mrpt::math::TPose2D(waypoint.x(), waypoint.y(), 0.0);
@@ -377,6 +385,7 @@ DriveResult StopAndScanDriver::reactiveDrive(const Eigen::Vector2d& waypoint,
     // Passed: the robot keeps the last command's velocity for the next
     // drive, whose navigate() replaces this target (cancel() would stop it).
     navlog.reset();
+    adapter.setHeading(std::nullopt);
     DriveResult res = passDrive(robot_, log, *end);
     res.goal_distance_m = distanceTo(res.final_pose, waypoint);
     prependDrive(pre, res);
@@ -386,6 +395,7 @@ DriveResult StopAndScanDriver::reactiveDrive(const Eigen::Vector2d& waypoint,
   if (nav.getCurrentState() == CAbstractNavigator::NAVIGATING) nav.cancel();
   if (nav.getCurrentState() == CAbstractNavigator::NAV_ERROR) nav.resetNavError();
   adapter.clearCommand();
+  adapter.setHeading(std::nullopt);
   navlog.reset();
   DriveResult res = finishDrive(log, *end);
   if (res.outcome == DriveOutcome::Blocked && params_.straight_fallback)

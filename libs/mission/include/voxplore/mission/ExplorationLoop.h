@@ -240,6 +240,11 @@ class ExplorationLoop
   /// (the planner's lead-ins, Path::kTurnFromAnyYaw, hold every yaw; this
   /// one the robot's, known only now); the turns in place are erased.
   void leadInOnTheWay(exploration::PlanResult& plan, std::size_t i) const;
+  /// scan_mode = continuous with turns on the way: the yaw a circle
+  /// waypoint i's drive turns the robot to on its way (MRPT's reactive drive
+  /// would face the way it goes): the yaw the next footprint drive starts
+  /// in, or the view's when none follows; empty otherwise.
+  std::optional<double> faceYaw(const exploration::PlanResult& plan, std::size_t i) const;
   /// low_obstacle_replan: whether a low obstacle cell not in low_at_plan_
   /// lies within reach of the path from waypoint `from` on.
   bool lowObstacleAhead(const exploration::PlanResult& plan, std::size_t from) const;

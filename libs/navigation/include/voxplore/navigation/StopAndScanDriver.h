@@ -86,8 +86,14 @@ class StopAndScanDriver
   /// @param final_yaw_period_rad > 0: final_yaw_rad plus any multiple of it
   ///        gives the same view (a camera ring that a half turn maps onto
   ///        itself: pi); the turn goes to the nearest of them.
+  /// @param face_yaw_rad set: on the way the robot turns to this yaw (map
+  ///        frame, at up to max_w) instead of to its direction of travel,
+  ///        MRPT's own heading (the circle MRPT plans for holds the
+  ///        rectangle at any yaw): it arrives turned for the footprint
+  ///        drive or the view after it.
   DriveResult driveTo(const Eigen::Vector2d& waypoint, std::optional<double> final_yaw_rad,
-                      double final_yaw_period_rad = 0);
+                      double final_yaw_period_rad = 0,
+                      std::optional<double> face_yaw_rad = std::nullopt);
 
   /// @brief Scanning while driving ([explore] scan_mode = continuous): drives
   ///        at an intermediate waypoint as driveTo() does, but without
@@ -97,7 +103,9 @@ class StopAndScanDriver
   ///        there. A robot that is moving already (a pass before) is not
   ///        backed off first. Any other ending stops the robot and runs the
   ///        fallbacks of driveTo() (straight drive, escape).
-  DriveResult passBy(const Eigen::Vector2d& waypoint, double tolerance_m);
+  ///        face_yaw_rad: as driveTo()'s.
+  DriveResult passBy(const Eigen::Vector2d& waypoint, double tolerance_m,
+                     std::optional<double> face_yaw_rad = std::nullopt);
 
   /// @brief Turns in place to `yaw_rad` (P-controller on the yaw error).
   /// @return Reached within yaw_tolerance, Timeout after rotate_timeout_s,
@@ -202,7 +210,8 @@ class StopAndScanDriver
   struct Impl;
   /// driveTo() (pass_tolerance_m < 0) and passBy() (the tolerance).
   DriveResult reactiveDrive(const Eigen::Vector2d& waypoint, std::optional<double> final_yaw_rad,
-                            double pass_tolerance_m, double final_yaw_period_rad = 0);
+                            double pass_tolerance_m, double final_yaw_period_rad = 0,
+                            std::optional<double> face_yaw_rad = std::nullopt);
   /// The footprint guard has held the robot for guard_hold_s.
   bool guardHolding() const;
   /// Blocked when guardHolding().
