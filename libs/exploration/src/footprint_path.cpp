@@ -60,22 +60,31 @@ void appendTurn(Path& path, const SE2Search& s, double yaw)
   }
 }
 
-/// Does the rectangle hold `yaw` (FootprintSpace::clear, its bin) all along
-/// a-b (samples half a cell apart)?
-bool holdClearAlong(const CollisionSpace& cs, const FootprintSpace& fs, const Eigen::Vector2d& a,
-                    const Eigen::Vector2d& b, double yaw)
+/// Samples a-b half a cell apart, k = 0..n: ok(k, n, i) at each (i: its
+/// row-major cell of cs.state). False where a sample leaves the grid or ok
+/// does not hold.
+template <class Ok>
+bool everySampleAlong(const CollisionSpace& cs, const Eigen::Vector2d& a, const Eigen::Vector2d& b,
+                      Ok ok)
 {
-  const YawMask bit = YawMask(1) << fs.binOf(yaw);
   const auto nx = static_cast<std::size_t>(cs.state.getSizeX());
   const int n = std::max(1, static_cast<int>(std::ceil((b - a).norm() / (0.5 * cs.state.getResolution()))));
   for (int k = 0; k <= n; ++k)
   {
     Cell c;
     if (!cellOf(cs.state, a + (b - a) * (static_cast<double>(k) / n), c)) return false;
-    if (!(fs.clear.data()[static_cast<std::size_t>(c.cx) + static_cast<std::size_t>(c.cy) * nx] & bit))
-      return false;
+    if (!ok(k, n, static_cast<std::size_t>(c.cx) + static_cast<std::size_t>(c.cy) * nx)) return false;
   }
   return true;
+}
+
+/// Does the rectangle hold `yaw` (FootprintSpace::clear, its bin) all along
+/// a-b?
+bool holdClearAlong(const CollisionSpace& cs, const FootprintSpace& fs, const Eigen::Vector2d& a,
+                    const Eigen::Vector2d& b, double yaw)
+{
+  const YawMask bit = YawMask(1) << fs.binOf(yaw);
+  return everySampleAlong(cs, a, b, [&](int, int, std::size_t i) { return (fs.clear.data()[i] & bit) != 0; });
 }
 
 struct Split
@@ -154,6 +163,7 @@ void turnOnTheWay(Path& path, const SE2Search& s, const FootprintSpace& fs, doub
       continue;
     }
     const double yc = out.yaws.back();  // the yaw at the corner
+    bool turn_next = merge;  // w[m] turns on its way (instead of the turns in place)
     if (!merge && m > k && m < w.size() && path.narrow[m] && path.narrow[k - 1] &&
         path.yaws[m] == path.yaws[m - 1] && std::abs(path.yaws[m - 1] - yc) <= max_rad)
     {
@@ -174,24 +184,19 @@ void turnOnTheWay(Path& path, const SE2Search& s, const FootprintSpace& fs, doub
           k = m;
           continue;
         }
-        // Hold the yaw from the corner to the split, turn from there on.
+        // Hold the yaw from the corner to the split; w[m] turns on from there.
         out.waypoints.push_back(split->point);
         out.yaws.push_back(yc);
         out.narrow.push_back(1);
         out.turn_on_way.push_back(0);
-        out.waypoints.push_back(w[m]);
-        out.yaws.push_back(path.yaws[m]);
-        out.narrow.push_back(path.narrow[m]);
-        out.turn_on_way.push_back(Path::kTurnFromPrevious);
-        k = m + 1;
-        continue;
+        turn_next = true;
       }
     }
-    if (merge) k = m;  // drop the turns; w[m] turns on the way
+    if (turn_next) k = m;  // drop the turns; w[m] turns on the way
     out.waypoints.push_back(w[k]);
     out.yaws.push_back(path.yaws[k]);
     out.narrow.push_back(path.narrow[k]);
-    out.turn_on_way.push_back(merge ? Path::kTurnFromPrevious : 0);
+    out.turn_on_way.push_back(turn_next ? Path::kTurnFromPrevious : 0);
     ++k;
   }
   path = std::move(out);
@@ -282,20 +287,16 @@ bool turnClearAlong(const CollisionSpace& cs, const FootprintSpace& fs, const Ei
     return m;
   };
   const YawMask all = binsBetween(yaw0, yaw1);
-  const auto nx = static_cast<std::size_t>(cs.state.getSizeX());
-  const int n = std::max(1, static_cast<int>(std::ceil((b - a).norm() / (0.5 * cs.state.getResolution()))));
-  for (int k = 0; k <= n; ++k)
-  {
-    Cell c;
-    if (!cellOf(cs.state, a + (b - a) * (static_cast<double>(k) / n), c)) return false;
-    // In proportion: the yaws within one sample either side of this one's.
-    const YawMask need = !in_proportion ? all
-                                        : binsBetween(yaw0 + (yaw1 - yaw0) * std::max(0, k - 1) / n,
-                                                      yaw0 + (yaw1 - yaw0) * std::min(n, k + 1) / n);
-    const std::size_t i = static_cast<std::size_t>(c.cx) + static_cast<std::size_t>(c.cy) * nx;
-    if ((fs.clear_turn.data()[i] & need) != need) return false;
-  }
-  return true;
+  return everySampleAlong(cs, a, b,
+                          [&](int k, int n, std::size_t i)
+                          {
+                            // In proportion: the yaws within one sample either side of this one's.
+                            const YawMask need =
+                                !in_proportion ? all
+                                               : binsBetween(yaw0 + (yaw1 - yaw0) * std::max(0, k - 1) / n,
+                                                             yaw0 + (yaw1 - yaw0) * std::min(n, k + 1) / n);
+                            return (fs.clear_turn.data()[i] & need) == need;
+                          });
 }
 
 std::optional<Path> planFootprintPath(
