@@ -367,6 +367,46 @@ TEST(FootprintSpace, ATurnAtAPassagesMouthIsMadeOnPartOfTheWayIn)
   EXPECT_GE(split, 6u);
 }
 
+// A robot standing before a door in a yaw off the door's (after a circle
+// drive, or where a plan starts) turns on the first part of its way through
+// it (turnFirstSplit, issue 15) where the turn layer holds the turn there
+// and the translation layer the door's yaw on: no turn in place, and no yaw
+// on the way clips. Next to the jamb no piece holds it: none is offered.
+TEST(FootprintSpace, ARobotBeforeADoorInAnotherYawTurnsOnTheFirstPartOfItsWay)
+{
+  GroundGrid g = twoRoomsWithADoor(0.90);
+  const Eigen::Vector2d through(1.2, 0.0);
+  std::size_t turned = 0;
+  for (const double x : {-1.3, -1.1, -0.95})
+    for (const double deg : {-40.0, -20.0, -8.0, 8.0, 20.0, 40.0})
+    {
+      const CPose2D start(x, 0.0, mrpt::DEG2RAD(deg));
+      const Planned pl = footprintSpaceOf(g, start);
+      const Eigen::Vector2d from(x, 0.0);
+      const auto s = turnFirstSplit(pl.cs, pl.fs, from, through, start.phi(), 0.0);
+      if (!s) continue;
+      ++turned;
+      // On the way from `from`, at most half of it, the longest piece first.
+      const double d = (*s - from).norm();
+      EXPECT_LE(d, 0.5 * (through - from).norm() + 1e-9);
+      EXPECT_NEAR((*s - from).normalized().dot((through - from).normalized()), 1.0, 1e-9);
+      Path p;
+      p.waypoints = {from, *s, through};
+      p.yaws = {start.phi(), 0.0, 0.0};
+      p.narrow = {1, 1, 1};
+      p.turn_on_way = {0, Path::kTurnFromPrevious, 0};
+      expectNeverClips(g, p);
+    }
+  std::cout << "[ turn first ] " << turned << " of 18 starts turn on their way" << std::endl;
+  EXPECT_GE(turned, 12u);
+  // The rectangle's nose a few centimetres off the wall, 20 deg off the
+  // door's yaw: no piece of the way in holds the turn.
+  const CPose2D jammed(-0.75, 0.0, mrpt::DEG2RAD(20.0));
+  ASSERT_FALSE(clipsAWall(g, jammed));
+  const Planned pl = footprintSpaceOf(g, jammed);
+  EXPECT_FALSE(turnFirstSplit(pl.cs, pl.fs, {-0.75, 0.0}, through, jammed.phi(), 0.0));
+}
+
 TEST(FootprintSpace, ASeventyCentimetreDoorIsRefused)
 {
   GroundGrid g = twoRoomsWithADoor(0.70);

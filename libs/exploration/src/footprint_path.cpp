@@ -78,19 +78,16 @@ bool everySampleAlong(const CollisionSpace& cs, const Eigen::Vector2d& a, const 
   return true;
 }
 
-/// Does the rectangle hold `yaw` (FootprintSpace::clear, its bin) all along
-/// a-b?
-bool holdClearAlong(const CollisionSpace& cs, const FootprintSpace& fs, const Eigen::Vector2d& a,
-                    const Eigen::Vector2d& b, double yaw)
-{
-  const YawMask bit = YawMask(1) << fs.binOf(yaw);
-  return everySampleAlong(cs, a, b, [&](int, int, std::size_t i) { return (fs.clear.data()[i] & bit) != 0; });
-}
+/// The pieces of a way a turn is made on next to its corner, longest first,
+/// at most half the way [m]. A bin's turn over 0.15 m keeps the driver's full
+/// speed (its turn rate cap, 0.8 max_w, allows 0.5 m/s for 5.6 deg over 8 cm).
+constexpr double kShortTurns[] = {0.6, 0.3, 0.15};
 
 struct Split
 {
   Eigen::Vector2d point;
-  bool before = false;  ///< on the translation before the corner (else after it)
+  bool before = false;      ///< on the translation before the corner (else after it)
+  bool turn_first = false;  ///< after it: turned from the corner to the split, held on from there
 };
 
 /// A turn in place from y0 to y1 at the corner `out`.waypoints.back()
@@ -99,6 +96,10 @@ struct Split
 /// from a split point to `next` (holding y0 from the corner to it), or from
 /// a split point of the translation before to the corner (holding y0 up to
 /// it); the longest part turnClearAlong() holds, at quarters of the way.
+/// Else on a short piece next to the corner (kShortTurns, longest first),
+/// where the turn layer holds round the corner (the planner turned there)
+/// but not a quarter of a long way off it (a door the way in starts from):
+/// up to the corner, or from it and held on from there (turnFirstSplit).
 /// Our own, as turnOnTheWay().
 std::optional<Split> partialTurn(const CollisionSpace& cs, const FootprintSpace& fs, const Path& out,
                                  const Eigen::Vector2d& next, double y0, double y1)
@@ -109,15 +110,20 @@ std::optional<Split> partialTurn(const CollisionSpace& cs, const FootprintSpace&
   {
     const Eigen::Vector2d s = corner + f * (next - corner);
     if (holdClearAlong(cs, fs, corner, s, y0) && turnClearAlong(cs, fs, s, next, y0, y1, true))
-      return Split{s, false};
+      return Split{s, false, false};
   }
-  if (o < 2 || out.turn_on_way.back() || (corner - out.waypoints[o - 2]).norm() < 1e-9) return std::nullopt;
-  const Eigen::Vector2d prev = out.waypoints[o - 2];
+  const bool before = o >= 2 && !out.turn_on_way.back() && (corner - out.waypoints[o - 2]).norm() > 1e-9;
+  const Eigen::Vector2d prev = before ? out.waypoints[o - 2] : corner;
   for (const double f : {0.25, 0.5, 0.75})
   {
     const Eigen::Vector2d s = prev + f * (corner - prev);
-    if (turnClearAlong(cs, fs, s, corner, y0, y1, true)) return Split{s, true};
+    if (before && turnClearAlong(cs, fs, s, corner, y0, y1, true)) return Split{s, true, false};
   }
+  const double in = (corner - prev).norm();
+  for (const double d : kShortTurns)
+    if (d <= 0.5 * in && turnClearAlong(cs, fs, corner + (prev - corner) * (d / in), corner, y0, y1, true))
+      return Split{corner + (prev - corner) * (d / in), true, false};
+  if (const auto s = turnFirstSplit(cs, fs, corner, next, y0, y1)) return Split{*s, false, true};
   return std::nullopt;
 }
 
@@ -184,12 +190,14 @@ void turnOnTheWay(Path& path, const SE2Search& s, const FootprintSpace& fs, doub
           k = m;
           continue;
         }
-        // Hold the yaw from the corner to the split; w[m] turns on from there.
+        // Hold the yaw from the corner to the split, w[m] turns on from
+        // there; or turn to the split, w[m] holds on from there.
         out.waypoints.push_back(split->point);
-        out.yaws.push_back(yc);
+        out.yaws.push_back(split->turn_first ? path.yaws[m - 1] : yc);
         out.narrow.push_back(1);
-        out.turn_on_way.push_back(0);
-        turn_next = true;
+        out.turn_on_way.push_back(split->turn_first ? Path::kTurnFromPrevious : 0);
+        turn_next = !split->turn_first;
+        if (split->turn_first) k = m;  // drop the turns
       }
     }
     if (turn_next) k = m;  // drop the turns; w[m] turns on the way
@@ -270,6 +278,28 @@ void makeLeadIn(std::vector<Eigen::Vector2d>& w, std::vector<double>& yaws,
   yaws[k] = yaw;
   if (m < w.size() && turn_on_way[m] == Path::kTurnFromPrevious) turn_on_way[m] = 0;
   eraseWaypoints(w, yaws, narrow, turn_on_way, k + 1, m);
+}
+
+bool holdClearAlong(const CollisionSpace& cs, const FootprintSpace& fs, const Eigen::Vector2d& a,
+                    const Eigen::Vector2d& b, double yaw)
+{
+  const YawMask bit = YawMask(1) << fs.binOf(yaw);
+  return everySampleAlong(cs, a, b, [&](int, int, std::size_t i) { return (fs.clear.data()[i] & bit) != 0; });
+}
+
+std::optional<Eigen::Vector2d> turnFirstSplit(const CollisionSpace& cs, const FootprintSpace& fs,
+                                              const Eigen::Vector2d& from, const Eigen::Vector2d& to,
+                                              double yaw0, double yaw1)
+{
+  const double way = (to - from).norm();
+  for (const double d : kShortTurns)
+  {
+    const Eigen::Vector2d s = from + (to - from) * (d / std::max(way, 1e-9));
+    if (d <= 0.5 * way && turnClearAlong(cs, fs, from, s, yaw0, yaw1, true) &&
+        holdClearAlong(cs, fs, s, to, yaw1))
+      return s;
+  }
+  return std::nullopt;
 }
 
 bool turnClearAlong(const CollisionSpace& cs, const FootprintSpace& fs, const Eigen::Vector2d& a,

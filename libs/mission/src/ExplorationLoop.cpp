@@ -249,7 +249,11 @@ ExplorationLoop::Drive ExplorationLoop::driveWaypoints(exploration::PlanResult& 
   const bool continuous = params_.scan_mode == ExplorationLoopParams::ScanMode::Continuous;
   for (std::size_t i = 0; i < wps.size(); i++)
   {
-    if (continuous) leadInOnTheWay(plan, i);
+    if (continuous)
+    {
+      leadInOnTheWay(plan, i);
+      turnFirstOnTheWay(plan, i);
+    }
     const bool last = i + 1 == wps.size();
     const std::optional<double> final_yaw =
         last ? std::optional<double>(plan.target.phi()) : std::nullopt;
@@ -270,6 +274,11 @@ ExplorationLoop::Drive ExplorationLoop::driveWaypoints(exploration::PlanResult& 
     status_.guard_scaled = driver_->guardScaledCommands();
     status_.guard_held = driver_->guardHeldCommands();
     if (!pass || !r.reached()) scanAndIntegrate();  // a drive that did not pass stopped
+    else if (last)  // the view, passed (passTolerance)
+    {
+      status_.scans_moving++;
+      scanAndIntegrate(true);
+    }
     if (!r.reached())
     {
       rememberObstacles(r.blocking_points);

@@ -124,9 +124,24 @@ std::optional<ExplorationLoop::Pass> ExplorationLoop::passTolerance(const explor
                                                      std::size_t i) const
 {
   const auto& wps = plan.waypoints;
-  if (i + 1 >= wps.size()) return std::nullopt;
   auto narrowAt = [&](std::size_t k)
   { return k < plan.waypoint_narrow.size() && plan.waypoint_narrow[k]; };
+  const auto& p = driver_->params();
+  constexpr double kCornerTolerance_m = 0.005;
+  if (i + 1 >= wps.size())
+  {
+    // The plan's end, a footprint drive already in the view's yaw (or its
+    // half turn, half_turn_views; within half a bin, the planner's yaws):
+    // landed on at half speed, no turn there; the scan is taken moving and
+    // the next plan starts from the moving robot (a velocity jump of at most
+    // 1.5 max_v, as a plan that ends on the way has: no acceleration limit).
+    if (i >= wps.size() || !narrowAt(i) || i >= plan.waypoint_yaws.size() || !plan.footprint)
+      return std::nullopt;
+    double off = mrpt::math::wrapToPi(plan.waypoint_yaws[i] - plan.target.phi());
+    if (view_period_ > 0) off -= view_period_ * std::round(off / view_period_);
+    if (std::abs(off) > p.yaw_tolerance + 0.5 * plan.footprint->binWidth()) return std::nullopt;
+    return Pass{kCornerTolerance_m, 0.5 * p.max_v_mps};
+  }
   // Circle to circle: MRPT's reactive drive goes on from anywhere near; so
   // does a lead-in (the rectangle may hold any yaw all along it).
   const auto turnAt = [&](std::size_t k)
@@ -141,7 +156,6 @@ std::optional<ExplorationLoop::Pass> ExplorationLoop::passTolerance(const explor
   // by at most tolerance x sin(bend) (a door leaves the body 2-5 cm a side);
   // one that bends more, on the waypoint itself (no corner cut).
   constexpr double kPassBendDeg = 20;
-  const auto& p = driver_->params();
   const bool turn_next = turnAt(i + 1) != 0;
   if (narrowAt(i + 1) && !turn_next &&
       (i + 1 >= plan.waypoint_yaws.size() ||
@@ -161,7 +175,6 @@ std::optional<ExplorationLoop::Pass> ExplorationLoop::passTolerance(const explor
     // `bend` at the waypoint, a jump of 2 v sin(bend / 2), kept no larger
     // than the simulated robot's own start from standstill (0 -> max_v in
     // one period; it has no acceleration limit): full speed up to 60 deg.
-    constexpr double kCornerTolerance_m = 0.005;
     const double corner_v = std::min(p.max_v_mps, p.max_v_mps / (2.0 * std::sin(0.5 * bend)));
     return Pass{kCornerTolerance_m, corner_v};
   }
@@ -188,6 +201,31 @@ void ExplorationLoop::leadInOnTheWay(exploration::PlanResult& plan, std::size_t 
     return;
   exploration::makeLeadIn(w, plan.waypoint_yaws, plan.waypoint_narrow, plan.waypoint_turn_on_way, i,
                           m, yaw);
+}
+
+void ExplorationLoop::turnFirstOnTheWay(exploration::PlanResult& plan, std::size_t i) const
+{
+  auto& w = plan.waypoints;
+  if (!(planner_.path.turn_on_the_way_deg > 0) || !plan.footprint || !plan.space ||
+      plan.waypoint_narrow.size() != w.size() || plan.waypoint_turn_on_way.size() != w.size() ||
+      plan.waypoint_yaws.size() != w.size() || i >= w.size() || !plan.waypoint_narrow[i] ||
+      plan.waypoint_turn_on_way[i] != 0)
+    return;
+  const mrpt::poses::CPose2D p = poseEstimate();
+  const double turn = mrpt::math::wrapToPi(plan.waypoint_yaws[i] - p.phi());
+  if (std::abs(turn) <= driver_->params().yaw_tolerance ||
+      std::abs(turn) > mrpt::DEG2RAD(planner_.path.turn_on_the_way_deg))
+    return;
+  const auto s = exploration::turnFirstSplit(*plan.space, *plan.footprint, Eigen::Vector2d(p.x(), p.y()),
+                                             w[i], p.phi(), p.phi() + turn);
+  if (!s) return;
+  const auto at = static_cast<std::ptrdiff_t>(i);
+  const double yaw = plan.waypoint_yaws[i];
+  w.insert(w.begin() + at, *s);
+  plan.waypoint_yaws.insert(plan.waypoint_yaws.begin() + at, yaw);
+  plan.waypoint_narrow.insert(plan.waypoint_narrow.begin() + at, uint8_t(1));
+  plan.waypoint_turn_on_way.insert(plan.waypoint_turn_on_way.begin() + at,
+                                   exploration::Path::kTurnFromPrevious);
 }
 
 std::optional<double> ExplorationLoop::faceYaw(const exploration::PlanResult& plan,

@@ -151,6 +151,23 @@ std::optional<Path> planFootprintPath(
 bool turnClearAlong(const CollisionSpace& cs, const FootprintSpace& fs, const Eigen::Vector2d& a,
                     const Eigen::Vector2d& b, double yaw0, double yaw1, bool in_proportion = false);
 
+/// @brief Does the rectangle hold `yaw` (FootprintSpace::clear, the
+///        translation layer of its bin) all along a-b (samples half a cell
+///        apart)? False where a-b leaves the grid.
+bool holdClearAlong(const CollisionSpace& cs, const FootprintSpace& fs, const Eigen::Vector2d& a,
+                    const Eigen::Vector2d& b, double yaw);
+
+/// @brief Where a footprint translation from `from` to `to` that starts in
+///        yaw0 and holds yaw1 (unwrapped from yaw0: that way round) makes
+///        the turn, in proportion, on its first 0.6, 0.3 or 0.15 m (longest
+///        first, at most half the way): where turnClearAlong() holds the turn
+///        there and holdClearAlong() yaw1 on to `to`. Empty where none does.
+///        Our own (the SE(2) search plans turns in place only): a turn in
+///        place at a passage's mouth costs a stop and the rotation's tail.
+std::optional<Eigen::Vector2d> turnFirstSplit(const CollisionSpace& cs, const FootprintSpace& fs,
+                                              const Eigen::Vector2d& from, const Eigen::Vector2d& to,
+                                              double yaw0, double yaw1);
+
 /// @brief The first waypoint after waypoint k not at its position (after the
 ///        turns in place there); w.size() when there is none.
 std::size_t nextTranslation(const std::vector<Eigen::Vector2d>& w, std::size_t k);

@@ -240,6 +240,13 @@ class ExplorationLoop
   /// (the planner's lead-ins, Path::kTurnFromAnyYaw, hold every yaw; this
   /// one the robot's, known only now); the turns in place are erased.
   void leadInOnTheWay(exploration::PlanResult& plan, std::size_t i) const;
+  /// scan_mode = continuous with turns on the way: a footprint waypoint i
+  /// whose drive would turn in place first (the robot stands after a circle
+  /// drive, or a plan starts in another yaw) turns on the first 0.6, 0.3 or
+  /// 0.15 m of its way instead (longest first, at most half of it), where the
+  /// turn layer holds the turn in proportion there and the translation layer
+  /// the drive's yaw on from there: a waypoint is inserted at i.
+  void turnFirstOnTheWay(exploration::PlanResult& plan, std::size_t i) const;
   /// scan_mode = continuous with turns on the way: the yaw a circle
   /// waypoint i's drive turns the robot to on its way (MRPT's reactive drive
   /// would face the way it goes): the yaw the next footprint drive starts
@@ -256,7 +263,9 @@ class ExplorationLoop
     double tolerance_m = 0;
     double corner_speed_mps = -1;
   };
-  /// Empty when the robot must stop there (the last one; a circle waypoint
+  /// Empty when the robot must stop there (the last one, unless a
+  /// footprint one reached in the view's yaw: passed at half speed, landing
+  /// on it; a circle waypoint
   /// before a footprint one, unless a lead-in; a footprint one whose next
   /// needs a turn in place, or bends the way into a circle one by more than
   /// kPassBendDeg, which a pass would cut).
