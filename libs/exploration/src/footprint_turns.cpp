@@ -41,9 +41,9 @@ bool everySampleAlong(const CollisionSpace& cs, const Eigen::Vector2d& a, const 
 }
 
 /// The pieces of a way a turn is made on next to its corner, longest first,
-/// at most half the way [m]. A bin's turn over 0.15 m keeps the driver's full
+/// at most half the way [m]. A bin's turn over 0.1 m keeps the driver's full
 /// speed (its turn rate cap, 0.8 max_w, allows 0.5 m/s for 5.6 deg over 8 cm).
-constexpr double kShortTurns[] = {0.6, 0.3, 0.15};
+constexpr double kShortTurns[] = {0.6, 0.3, 0.15, 0.1};
 
 struct Split
 {

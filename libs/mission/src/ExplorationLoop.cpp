@@ -289,7 +289,7 @@ ExplorationLoop::Drive ExplorationLoop::driveWaypoints(exploration::PlanResult& 
       registerFailure(plan.frontier ? plan.frontier->center : wps.back());
       return Drive::Failed;
     }
-    if (pass && params_.replan_on_the_way && targetSeen(plan))
+    if (pass && !last && params_.replan_on_the_way && targetSeen(plan))
     {
       status_.targets_seen_on_the_way++;
       return Drive::TargetSeen;  // moving: the next plan's first drive goes on from here

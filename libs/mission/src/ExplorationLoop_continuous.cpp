@@ -179,7 +179,19 @@ std::optional<ExplorationLoop::Pass> ExplorationLoop::passTolerance(const explor
     return Pass{kCornerTolerance_m, corner_v};
   }
   // One navigation period's travel at most: the drive checks once a period.
-  return Pass{std::min(params_.pass_tolerance_m, p.max_v_mps * p.dt_s)};
+  const double tolerance = std::min(params_.pass_tolerance_m, p.max_v_mps * p.dt_s);
+  // A turn on the way is made in proportion to the whole way: passed that
+  // far off the waypoint it leaves tolerance / way of the turn undone, and
+  // more than yaw_tolerance of it would be turned in place at the start of
+  // the next drive. Landed on instead (a short piece with a large turn).
+  if (narrowAt(i) && i < plan.waypoint_turn_on_way.size() && plan.waypoint_turn_on_way[i] != 0)
+  {
+    const mrpt::poses::CPose2D at = poseEstimate();
+    const double left = std::abs(mrpt::math::wrapToPi(plan.waypoint_yaws[i] - at.phi())) * tolerance /
+                        std::max((wps[i] - Eigen::Vector2d(at.x(), at.y())).norm(), 1e-9);
+    if (left > p.yaw_tolerance) return Pass{kCornerTolerance_m, p.max_v_mps};
+  }
+  return Pass{tolerance};
 }
 
 void ExplorationLoop::leadInOnTheWay(exploration::PlanResult& plan, std::size_t i) const

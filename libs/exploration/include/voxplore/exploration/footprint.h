@@ -159,7 +159,7 @@ bool holdClearAlong(const CollisionSpace& cs, const FootprintSpace& fs, const Ei
 
 /// @brief Where a footprint translation from `from` to `to` that starts in
 ///        yaw0 and holds yaw1 (unwrapped from yaw0: that way round) makes
-///        the turn, in proportion, on its first 0.6, 0.3 or 0.15 m (longest
+///        the turn, in proportion, on its first 0.6, 0.3, 0.15 or 0.1 m (longest
 ///        first, at most half the way): where turnClearAlong() holds the turn
 ///        there and holdClearAlong() yaw1 on to `to`. Empty where none does.
 ///        Our own (the SE(2) search plans turns in place only): a turn in

@@ -242,8 +242,8 @@ class ExplorationLoop
   void leadInOnTheWay(exploration::PlanResult& plan, std::size_t i) const;
   /// scan_mode = continuous with turns on the way: a footprint waypoint i
   /// whose drive would turn in place first (the robot stands after a circle
-  /// drive, or a plan starts in another yaw) turns on the first 0.6, 0.3 or
-  /// 0.15 m of its way instead (longest first, at most half of it), where the
+  /// drive, or a plan starts in another yaw) turns on the first 0.6, 0.3,
+  /// 0.15 or 0.1 m of its way instead (longest first, at most half of it), where the
   /// turn layer holds the turn in proportion there and the translation layer
   /// the drive's yaw on from there: a waypoint is inserted at i.
   void turnFirstOnTheWay(exploration::PlanResult& plan, std::size_t i) const;
@@ -268,7 +268,9 @@ class ExplorationLoop
   /// on it; a circle waypoint
   /// before a footprint one, unless a lead-in; a footprint one whose next
   /// needs a turn in place, or bends the way into a circle one by more than
-  /// kPassBendDeg, which a pass would cut).
+  /// kPassBendDeg, which a pass would cut). A footprint one turned on its
+  /// way whose pass would leave more than yaw_tolerance of the turn undone
+  /// (tolerance / way of it) is landed on (a short piece, a large turn).
   std::optional<Pass> passTolerance(const exploration::PlanResult& plan, std::size_t i) const;
   /// The pose the planner plans from.
   mrpt::poses::CPose2D planPose() const;
