@@ -184,7 +184,8 @@ std::optional<ExplorationLoop::Pass> ExplorationLoop::passTolerance(const explor
   // far off the waypoint it leaves tolerance / way of the turn undone, and
   // more than yaw_tolerance of it would be turned in place at the start of
   // the next drive. Landed on instead (a short piece with a large turn).
-  if (narrowAt(i) && i < plan.waypoint_turn_on_way.size() && plan.waypoint_turn_on_way[i] != 0)
+  if (narrowAt(i) && i < plan.waypoint_turn_on_way.size() && plan.waypoint_turn_on_way[i] != 0 &&
+      i < plan.waypoint_yaws.size())
   {
     const mrpt::poses::CPose2D at = poseEstimate();
     const double left = std::abs(mrpt::math::wrapToPi(plan.waypoint_yaws[i] - at.phi())) * tolerance /
