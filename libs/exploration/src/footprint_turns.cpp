@@ -74,17 +74,21 @@ std::optional<Split> partialTurn(const CollisionSpace& cs, const FootprintSpace&
     if (holdClearAlong(cs, fs, corner, s, y0) && turnClearAlong(cs, fs, s, next, y0, y1, true))
       return Split{s, false, false};
   }
-  const bool before = o >= 2 && !out.turn_on_way.back() && (corner - out.waypoints[o - 2]).norm() > 1e-9;
-  const Eigen::Vector2d prev = before ? out.waypoints[o - 2] : corner;
-  for (const double f : {0.25, 0.5, 0.75})
+  if (o >= 2 && !out.turn_on_way.back() && (corner - out.waypoints[o - 2]).norm() > 1e-9)
   {
-    const Eigen::Vector2d s = prev + f * (corner - prev);
-    if (before && turnClearAlong(cs, fs, s, corner, y0, y1, true)) return Split{s, true, false};
+    const Eigen::Vector2d prev = out.waypoints[o - 2];
+    for (const double f : {0.25, 0.5, 0.75})
+    {
+      const Eigen::Vector2d s = prev + f * (corner - prev);
+      if (turnClearAlong(cs, fs, s, corner, y0, y1, true)) return Split{s, true, false};
+    }
+    const double in = (corner - prev).norm();
+    for (const double d : kShortTurns)
+    {
+      const Eigen::Vector2d s = corner + (prev - corner) * (d / in);
+      if (d <= 0.5 * in && turnClearAlong(cs, fs, s, corner, y0, y1, true)) return Split{s, true, false};
+    }
   }
-  const double in = (corner - prev).norm();
-  for (const double d : kShortTurns)
-    if (d <= 0.5 * in && turnClearAlong(cs, fs, corner + (prev - corner) * (d / in), corner, y0, y1, true))
-      return Split{corner + (prev - corner) * (d / in), true, false};
   if (const auto s = turnFirstSplit(cs, fs, corner, next, y0, y1)) return Split{*s, false, true};
   return std::nullopt;
 }
@@ -158,11 +162,7 @@ void turnOnTheWay(Path& path, const SE2Search& s, const FootprintSpace& fs, doub
         if (split->before)
         {
           // Hold the yaw to the split, turn from there to the corner.
-          const auto at = static_cast<std::ptrdiff_t>(o - 1);
-          out.waypoints.insert(out.waypoints.begin() + at, split->point);
-          out.yaws.insert(out.yaws.begin() + at, yc);
-          out.narrow.insert(out.narrow.begin() + at, uint8_t(1));
-          out.turn_on_way.insert(out.turn_on_way.begin() + at, uint8_t(0));
+          insertWaypoint(out.waypoints, out.yaws, out.narrow, out.turn_on_way, o - 1, split->point, yc, 0);
           out.yaws.back() = path.yaws[m - 1];
           out.turn_on_way.back() = Path::kTurnFromPrevious;
           k = m;
@@ -238,6 +238,17 @@ void makeLeadIn(std::vector<Eigen::Vector2d>& w, std::vector<double>& yaws,
   yaws[k] = yaw;
   if (m < w.size() && turn_on_way[m] == Path::kTurnFromPrevious) turn_on_way[m] = 0;
   eraseWaypoints(w, yaws, narrow, turn_on_way, k + 1, m);
+}
+
+void insertWaypoint(std::vector<Eigen::Vector2d>& w, std::vector<double>& yaws,
+                    std::vector<uint8_t>& narrow, std::vector<uint8_t>& turn_on_way, std::size_t at,
+                    const Eigen::Vector2d& point, double yaw, uint8_t turn_on_way_at)
+{
+  const auto k = static_cast<std::ptrdiff_t>(at);
+  w.insert(w.begin() + k, point);
+  yaws.insert(yaws.begin() + k, yaw);
+  narrow.insert(narrow.begin() + k, uint8_t(1));
+  turn_on_way.insert(turn_on_way.begin() + k, turn_on_way_at);
 }
 
 bool holdClearAlong(const CollisionSpace& cs, const FootprintSpace& fs, const Eigen::Vector2d& a,

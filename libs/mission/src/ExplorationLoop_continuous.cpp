@@ -22,6 +22,18 @@
 
 namespace voxplore::mission
 {
+namespace
+{
+/// Turns on the way are on ([path] turn_on_the_way_deg) and the plan is a
+/// footprint plan whose per-waypoint vectors are consistent.
+bool turnsOnTheWay(const exploration::PlanResult& plan, const exploration::PathParams& path)
+{
+  const std::size_t n = plan.waypoints.size();
+  return path.turn_on_the_way_deg > 0 && plan.footprint && plan.waypoint_narrow.size() == n &&
+         plan.waypoint_turn_on_way.size() == n && plan.waypoint_yaws.size() == n;
+}
+}  // namespace
+
 void ExplorationLoop::scanAndIntegrate(bool beside)
 {
   settleScan();  // SlamIcp integrates one stop after the other
@@ -198,9 +210,7 @@ std::optional<ExplorationLoop::Pass> ExplorationLoop::passTolerance(const explor
 void ExplorationLoop::leadInOnTheWay(exploration::PlanResult& plan, std::size_t i) const
 {
   auto& w = plan.waypoints;
-  if (!(planner_.path.turn_on_the_way_deg > 0) || !plan.footprint || !plan.space ||
-      plan.waypoint_narrow.size() != w.size() || plan.waypoint_turn_on_way.size() != w.size() ||
-      plan.waypoint_yaws.size() != w.size() || i + 1 >= w.size() || plan.waypoint_narrow[i])
+  if (!turnsOnTheWay(plan, planner_.path) || !plan.space || i + 1 >= w.size() || plan.waypoint_narrow[i])
     return;
   const std::size_t m = exploration::nextTranslation(w, i);
   if (m == w.size() || !plan.waypoint_narrow[m]) return;
@@ -219,9 +229,7 @@ void ExplorationLoop::leadInOnTheWay(exploration::PlanResult& plan, std::size_t 
 void ExplorationLoop::turnFirstOnTheWay(exploration::PlanResult& plan, std::size_t i) const
 {
   auto& w = plan.waypoints;
-  if (!(planner_.path.turn_on_the_way_deg > 0) || !plan.footprint || !plan.space ||
-      plan.waypoint_narrow.size() != w.size() || plan.waypoint_turn_on_way.size() != w.size() ||
-      plan.waypoint_yaws.size() != w.size() || i >= w.size() || !plan.waypoint_narrow[i] ||
+  if (!turnsOnTheWay(plan, planner_.path) || !plan.space || i >= w.size() || !plan.waypoint_narrow[i] ||
       plan.waypoint_turn_on_way[i] != 0)
     return;
   const mrpt::poses::CPose2D p = poseEstimate();
@@ -232,13 +240,8 @@ void ExplorationLoop::turnFirstOnTheWay(exploration::PlanResult& plan, std::size
   const auto s = exploration::turnFirstSplit(*plan.space, *plan.footprint, Eigen::Vector2d(p.x(), p.y()),
                                              w[i], p.phi(), p.phi() + turn);
   if (!s) return;
-  const auto at = static_cast<std::ptrdiff_t>(i);
-  const double yaw = plan.waypoint_yaws[i];
-  w.insert(w.begin() + at, *s);
-  plan.waypoint_yaws.insert(plan.waypoint_yaws.begin() + at, yaw);
-  plan.waypoint_narrow.insert(plan.waypoint_narrow.begin() + at, uint8_t(1));
-  plan.waypoint_turn_on_way.insert(plan.waypoint_turn_on_way.begin() + at,
-                                   exploration::Path::kTurnFromPrevious);
+  exploration::insertWaypoint(w, plan.waypoint_yaws, plan.waypoint_narrow, plan.waypoint_turn_on_way, i,
+                              *s, plan.waypoint_yaws[i], exploration::Path::kTurnFromPrevious);
 }
 
 std::optional<double> ExplorationLoop::faceYaw(const exploration::PlanResult& plan,
@@ -246,9 +249,7 @@ std::optional<double> ExplorationLoop::faceYaw(const exploration::PlanResult& pl
 {
   const auto& w = plan.waypoints;
   if (params_.scan_mode != ExplorationLoopParams::ScanMode::Continuous ||
-      !(planner_.path.turn_on_the_way_deg > 0) || !plan.footprint ||
-      plan.waypoint_narrow.size() != w.size() || plan.waypoint_turn_on_way.size() != w.size() ||
-      plan.waypoint_yaws.size() != w.size())
+      !turnsOnTheWay(plan, planner_.path))
     return std::nullopt;
   for (std::size_t m = i + 1; m < w.size(); ++m)
     if (plan.waypoint_narrow[m])  // a turn on its way starts from the yaw before

@@ -181,6 +181,14 @@ void makeLeadIn(std::vector<Eigen::Vector2d>& w, std::vector<double>& yaws,
                 std::vector<uint8_t>& narrow, std::vector<uint8_t>& turn_on_way, std::size_t k,
                 std::size_t m, double yaw);
 
+/// @brief Inserts a footprint waypoint (narrow) at index `at` of the four
+///        parallel vectors of a path (Path, or a PlanResult's waypoints):
+///        `point`, held in (or turned on its way to) `yaw`, `turn_on_way` as
+///        Path::turn_on_way.
+void insertWaypoint(std::vector<Eigen::Vector2d>& w, std::vector<double>& yaws,
+                    std::vector<uint8_t>& narrow, std::vector<uint8_t>& turn_on_way, std::size_t at,
+                    const Eigen::Vector2d& point, double yaw, uint8_t turn_on_way_at);
+
 /// @brief Per cell (row-major over cs.state), a lower bound of the cost
 ///        planFootprintPath pays from fs.robot's cell to it: a Dijkstra over the
 ///        cells holding a reached or escape state, a step costing its length
