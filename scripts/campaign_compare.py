@@ -4,15 +4,21 @@
     scripts/campaign_compare.py BEFORE AFTER [--labels "before,after"] [--out FILE.md]
 
 BEFORE and AFTER are campaign directories (their runs.csv, written by
-scripts/campaign_report.py) or runs.csv files. Runs are paired by (world file
-name and its folder, robot, strategy, seed, extra arguments), so the two
-campaigns may live in different folders and list their runs in any order.
+scripts/campaign_report.py) or runs.csv files; several joined with '+'
+(A+B) make one campaign, a run in B replacing the same run in A (a part
+redone). Runs are paired by (world file name and its folder, robot,
+strategy, seed, extra arguments), so the two campaigns may live in different
+folders and list their runs in any order.
 
 Writes a markdown report (standard output, or --out) with, per strategy and
 robot, the mean and worst of each figure before and after over the pairs
 where both runs succeeded, how many pairs got better and worse, every
 failure, and the pairs whose ATE or coverage changed the most. Worst is the
 minimum for coverage, clearance and map precision, the maximum otherwise.
+A mission-time table gives, per robot and strategy and over all pairs, the
+simulated mission time summed before and after and its ratio, and the same
+for the time each run took to reach coverage_2d 0.90 and 0.97 (pairs where
+both runs reach it): the time at equal coverage (scan modes, issue 15).
 
 Python 3 standard library only. Exit status 2 on bad arguments or an
 unreadable runs.csv; a campaign with no common run is a report saying so.
@@ -21,6 +27,7 @@ import argparse
 import csv
 import math
 import os
+import statistics
 import sys
 
 # (column, label, higher is better, decimals)
@@ -34,14 +41,21 @@ FIGURES = (
     ("min_clearance_m", "min clearance [m]", True, 3),
     ("flagged_stops", "flagged stops", False, 0),
     ("compute_s", "compute [s]", False, 1),
+    ("sim_time_s", "mission time, simulated [s]", False, 0),
+    ("time_to_90_s", "time to coverage 0.90 [s]", False, 0),
+    ("time_to_97_s", "time to coverage 0.97 [s]", False, 0),
 )
+# Times summed over the pairs (mission, and to equal coverage).
+TIMES = (("sim_time_s", "mission"), ("time_to_90_s", "to coverage 0.90"),
+         ("time_to_97_s", "to coverage 0.97"))
 # A change smaller than this counts as neither better nor worse.
 TOLERANCE = {"ate_rmse_m": 0.005, "map_precision_above_floor": 0.005, "coverage_2d": 0.005,
              "path_length_m": 1.0, "steps": 0.5, "collisions": 0.5, "min_clearance_m": 0.002,
-             "flagged_stops": 0.5, "compute_s": 1.0}
+             "flagged_stops": 0.5, "compute_s": 1.0, "sim_time_s": 1.0, "time_to_90_s": 1.0,
+             "time_to_97_s": 1.0}
 
 
-def read_runs(path):
+def read_one(path):
     if os.path.isdir(path):
         path = os.path.join(path, "runs.csv")
     try:
@@ -49,6 +63,17 @@ def read_runs(path):
             return path, list(csv.DictReader(f))
     except OSError as e:
         sys.exit(f"campaign_compare.py: cannot read '{path}': {e.strerror}")
+
+
+def read_runs(spec):
+    """A campaign, or several joined with '+': later runs replace earlier ones."""
+    paths, by_key = [], {}
+    for part in spec.split("+"):
+        path, runs = read_one(part)
+        paths.append(path)
+        for r in runs:
+            by_key[key(r)] = r
+    return " + ".join(paths), list(by_key.values())
 
 
 def key(row):
@@ -77,6 +102,37 @@ def fmt(v, decimals):
 
 def worst(values, higher_better):
     return min(values) if higher_better else max(values)
+
+
+def time_table(pairs, labels):
+    """Summed times before and after, per robot and strategy and over all."""
+    groups = {}
+    for b, r in pairs:
+        if ok(b) and ok(r):
+            for g in ((r.get("robot", ""), r.get("strategy", "")), ("all", "")):
+                groups.setdefault(g, []).append((b, r))
+    if not groups:
+        return []
+    L = ["## Mission time (simulated)", "",
+         f"Sums over the pairs with both runs successful: {labels[0]} -> {labels[1]} (ratio); the "
+         "times to a coverage only over the pairs where both runs reach it (how many of all).", "",
+         "| robot, strategy | pairs | " + " | ".join(t for _, t in TIMES) +
+         " | per-run mission ratio: median, worst |", "|---|---|" + "---|" * (len(TIMES) + 1)]
+    order = sorted(g for g in groups if g[0] != "all") + [("all", "")]
+    for g in order:
+        items = groups[g]
+        cells = []
+        for col, _ in TIMES:
+            vals = [(number(b, col), number(r, col)) for b, r in items]
+            vals = [(x, y) for x, y in vals if x is not None and y is not None]
+            tb, ta = sum(x for x, _ in vals), sum(y for _, y in vals)
+            reach = "" if col == "sim_time_s" else f" ({len(vals)} of {len(items)})"
+            cells.append(f"{tb:.0f} -> {ta:.0f} s: **{ta / tb:.3f}**{reach}" if tb > 0 else "-")
+        ratios = sorted(number(r, "sim_time_s") / number(b, "sim_time_s") for b, r in items
+                        if number(b, "sim_time_s") and number(r, "sim_time_s") is not None)
+        per_run = f"{statistics.median(ratios):.3f}, {ratios[-1]:.3f}" if ratios else "-"
+        L.append(f"| {' '.join(x for x in g if x)} | {len(items)} | " + " | ".join(cells) + f" | {per_run} |")
+    return L + [""]
 
 
 def main():
@@ -128,6 +184,7 @@ def main():
                 err = (r if not ok(r) else b).get("error", "") or "no summary"
                 L.append(f"- {key(r)[0]}: {' and '.join(which)} ({err[:120]})")
         L.append("")
+    L += time_table(pairs, labels)
     # The largest changes, for a closer look.
     changes = []
     for b, r in pairs:

@@ -114,6 +114,25 @@ grep -q "| ATE RMSE \[m\] | .* | 0 / 1 / 0 |" "$TMP/compare.md" || fail "compare
 grep -q "no_such_world" "$TMP/compare.md" || fail "compare: the failed run is not listed"
 "$REPO/scripts/campaign_compare.py" "$OUT" "$TMP/no_such_runs.csv" > /dev/null 2>&1 \
   && fail "compare: a missing runs.csv is not an error"
+# Mission time: every run's simulated time doubled is a ratio of 2 over all
+# pairs; joined after the campaign ('+') the doubled runs replace its own.
+python3 - "$OUT/runs.csv" "$TMP/runs_slow.csv" <<'EOF'
+import csv, sys
+rows = list(csv.DictReader(open(sys.argv[1])))
+for r in rows:
+    if r["sim_time_s"]:
+        r["sim_time_s"] = str(2 * float(r["sim_time_s"]))
+w = csv.DictWriter(open(sys.argv[2], "w", newline=""), fieldnames=list(rows[0].keys()))
+w.writeheader()
+w.writerows(rows)
+EOF
+"$REPO/scripts/campaign_compare.py" "$OUT" "$TMP/runs_slow.csv" --out "$TMP/slow.md" || fail "compare (slow) failed"
+grep -q "^| all | 2 | [0-9]* -> [0-9]* s: \*\*2.000\*\*" "$TMP/slow.md" \
+  || fail "compare: doubled times are not a mission ratio of 2: $(grep -A8 'Mission time' "$TMP/slow.md")"
+"$REPO/scripts/campaign_compare.py" "$OUT+$TMP/runs_slow.csv" "$TMP/runs_slow.csv" --out "$TMP/joined.md" \
+  || fail "compare (joined) failed"
+grep -q "^| all | 2 | [0-9]* -> [0-9]* s: \*\*1.000\*\*" "$TMP/joined.md" \
+  || fail "compare: A+B does not replace A's runs by B's: $(grep -A8 'Mission time' "$TMP/joined.md")"
 
 # scripts/check_loops.py: the campaign's runs (dlr_test_room: no loop), then a
 # made-up run of 4 stops in a world frame turned 90 deg, whose closure joins
