@@ -242,6 +242,10 @@ class StopAndScanDriver
   /// driveFootprint()), appended to `res`.
   void turnAtWaypoint(DriveResult& res, std::optional<double> final_yaw_rad,
                       double final_yaw_period_rad = 0);
+  /// A reactive drive that ended Blocked: driveStraight() when
+  /// straight_fallback, then escape() when escape_clearance_m > 0, appended
+  /// to `res` (its outcome theirs).
+  void recoverBlocked(DriveResult& res, const Eigen::Vector2d& waypoint);
   /// Stops the robot; the result of a drive that ended with `end`.
   DriveResult finishDrive(const detail::DriveLog& log,
                           const std::pair<DriveOutcome, std::string>& end);
