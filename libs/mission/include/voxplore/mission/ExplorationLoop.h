@@ -43,6 +43,7 @@
 namespace voxplore::navigation
 {
 class StopAndScanDriver;
+struct DriveResult;
 }
 
 namespace voxplore::mission
@@ -272,6 +273,18 @@ class ExplorationLoop
   /// way whose pass would leave more than yaw_tolerance of the turn undone
   /// (tolerance / way of it) is landed on (a short piece, a large turn).
   std::optional<Pass> passTolerance(const exploration::PlanResult& plan, std::size_t i) const;
+  /// Waypoint i of the plan driven by the drive its kind takes: the
+  /// rectangle's (narrow) or MRPT's circle, passed (`pass`) or stopped at.
+  navigation::DriveResult driveWaypoint(const exploration::PlanResult& plan, std::size_t i,
+                                        const std::optional<Pass>& pass);
+  /// A drive to waypoint i that failed: its blocking points kept, counted
+  /// against the plan's target, said.
+  void noteFailedDrive(const exploration::PlanResult& plan, std::size_t i,
+                       const navigation::DriveResult& r);
+  /// low_obstacle_replan: a low obstacle seen on the rest of the plan after
+  /// waypoint i (not twice without the robot moving in between); the
+  /// robot stops (continuous) and the caller replans.
+  bool lowObstacleInterrupts(const exploration::PlanResult& plan, std::size_t i, bool continuous);
   /// The pose the planner plans from.
   mrpt::poses::CPose2D planPose() const;
   /// replan_on_the_way: the plan's frontier is gone from a plan made now.
