@@ -191,6 +191,70 @@ TEST(LoopClosure, RingLoopIsClosedAndTheDriftRemoved)
   EXPECT_GE(lc.numLoopEdges(), 2u);
 }
 
+namespace
+{
+/// The ring with every stop scanned twice from the same pose (a robot that
+/// stops, scans, turns 2 deg and scans again): how far, by odometry, the
+/// keyframe that closed the first loop was from the candidate it confirmed.
+double closureDistanceFromCandidate(LoopCloser& lc, bool& closed)
+{
+  const Scene scene = ringScene();
+  const std::vector<CPose2D> truth = ringPath();
+  CPose2D est = truth.front();
+  double travel = 0;
+  const IcpResult reg = goodRegistration();
+  std::size_t k = 0;
+  CPose2D candidate_odo;
+  closed = false;
+  for (std::size_t i = 0; i < truth.size(); i++)
+  {
+    if (i > 0)
+    {
+      const CPose2D rel = truth[i] - truth[i - 1];
+      const CPose2D next = est + CPose2D(rel.x(), rel.y(), rel.phi() + mrpt::DEG2RAD(0.04));
+      travel += std::hypot(next.x() - est.x(), next.y() - est.y());
+      est = next;
+    }
+    for (const double turn_deg : {0.0, 2.0})
+    {
+      const CPose2D turned(0, 0, mrpt::DEG2RAD(turn_deg));
+      const CPose2D pose = est + turned;
+      const std::size_t id = k++;
+      const auto ev = lc.addKeyframe(id, pose, pose, travel, scene.cloudAt(truth[i] + turned),
+                                     0.02, id > 0 ? &reg : nullptr);
+      if (ev.candidate) candidate_odo = pose;
+      if (ev.closed)
+      {
+        closed = true;
+        return std::hypot(pose.x() - candidate_odo.x(), pose.y() - candidate_odo.y());
+      }
+    }
+  }
+  return -1;
+}
+}  // namespace
+
+TEST(LoopClosure, AConfirmationMustComeFromAStopThatMovedAwayFromTheCandidate)
+{
+  // Off (the default): the second scan at the candidate's own stop confirms
+  // it, seeing the submap as the candidate did (an aliased match repeats).
+  LoopClosureParams off;
+  LoopCloser lc_off(off, IcpParams{});
+  bool closed = false;
+  const double d_off = closureDistanceFromCandidate(lc_off, closed);
+  ASSERT_TRUE(closed);
+  EXPECT_LT(d_off, 0.05);
+  // On: only a stop 0.3 m on (the next one, 0.5 m) confirms it.
+  LoopClosureParams on;
+  on.confirm_min_move_m = 0.3;
+  on.confirm_min_turn = mrpt::DEG2RAD(30.0);
+  LoopCloser lc_on(on, IcpParams{});
+  const double d_on = closureDistanceFromCandidate(lc_on, closed);
+  ASSERT_TRUE(closed);
+  EXPECT_GE(d_on, 0.3);
+  std::cout << "confirmed from " << d_off << " m (off), " << d_on << " m (on)" << std::endl;
+}
+
 TEST(LoopClosure, DisabledKeepsTheEstimate)
 {
   LoopClosureParams p;

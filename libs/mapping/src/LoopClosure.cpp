@@ -39,6 +39,8 @@ void LoopClosureParams::loadFromConfigFile(const mrpt::config::CConfigFileBase& 
   MRPT_LOAD_CONFIG_VAR(confirm_xy_m, double, c, s);
   MRPT_LOAD_CONFIG_VAR(confirm_per_m, double, c, s);
   MRPT_LOAD_CONFIG_VAR_DEGREES(confirm_yaw, c, s);
+  MRPT_LOAD_CONFIG_VAR(confirm_min_move_m, double, c, s);
+  MRPT_LOAD_CONFIG_VAR_DEGREES(confirm_min_turn, c, s);
   MRPT_LOAD_CONFIG_VAR(rebuild_min_shift_m, double, c, s);
   MRPT_LOAD_CONFIG_VAR(octomap_rebuild_per_stop, int, c, s);
   MRPT_LOAD_CONFIG_VAR(edge_sigma_floor_m, double, c, s);
@@ -66,6 +68,8 @@ void LoopClosureParams::loadFromConfigFile(const mrpt::config::CConfigFileBase& 
   requireValid(min_goodness > 0 && min_goodness <= 1, c, s, "min_goodness", "must be in (0, 1]");
   requireValid(margin >= 0 && margin < 1, c, s, "margin", "must be in [0, 1)");
   requireValid(confirm_within >= 1, c, s, "confirm_within", "must be >= 1");
+  requireValid(confirm_min_move_m >= 0, c, s, "confirm_min_move_m", "must be >= 0");
+  requireValid(confirm_min_turn >= 0, c, s, "confirm_min_turn", "must be >= 0");
   requireValid(edge_min_std_m > 0 && edge_max_std_m >= edge_min_std_m, c, s, "edge_min_std_m",
                "must be > 0 and <= edge_max_std_m");
   requireValid(edge_min_std_yaw > 0 && edge_max_std_yaw >= edge_min_std_yaw, c, s,
@@ -98,6 +102,8 @@ void LoopClosureParams::saveToConfigFile(mrpt::config::CConfigFileBase& c, const
   MRPT_SAVE_CONFIG_VAR(confirm_xy_m, c, s);
   MRPT_SAVE_CONFIG_VAR(confirm_per_m, c, s);
   MRPT_SAVE_CONFIG_VAR_DEGREES(confirm_yaw, c, s);
+  MRPT_SAVE_CONFIG_VAR(confirm_min_move_m, c, s);
+  MRPT_SAVE_CONFIG_VAR_DEGREES(confirm_min_turn, c, s);
   MRPT_SAVE_CONFIG_VAR(rebuild_min_shift_m, c, s);
   MRPT_SAVE_CONFIG_VAR(octomap_rebuild_per_stop, c, s);
   MRPT_SAVE_CONFIG_VAR(edge_sigma_floor_m, c, s);
@@ -332,6 +338,16 @@ std::pair<double, double> LoopCloser::optimize()
   return {max_shift, sum / double(keyframes_.size())};
 }
 
+bool LoopCloser::independentOf(const CPose2D& moved) const
+{
+  if (params_.confirm_min_move_m <= 0 && params_.confirm_min_turn <= 0) return true;
+  const bool far = params_.confirm_min_move_m > 0 &&
+                   std::hypot(moved.x(), moved.y()) >= params_.confirm_min_move_m;
+  const bool turned = params_.confirm_min_turn > 0 &&
+                      std::abs(mrpt::math::wrapToPi(moved.phi())) >= params_.confirm_min_turn;
+  return far || turned;
+}
+
 LoopEvent LoopCloser::addKeyframe(std::size_t stop, const CPose2D& pose, const CPose2D& odometry,
                                   double travel_m, const mrpt::maps::CPointsMap& cloud_robot,
                                   double d_min_m, const IcpResult* reg)
@@ -389,6 +405,13 @@ LoopEvent LoopCloser::addKeyframe(std::size_t stop, const CPose2D& pose, const C
     const double dist = std::hypot(moved.x(), moved.y());
     const double err = xyDist(expect, m->pose);
     const double err_yaw = std::abs(yawDiff(expect, m->pose));
+    if (!independentOf(moved))
+    {
+      msg << "loop candidate at stop " << pk.stop << " waits: this stop moved " << dist
+          << " m, " << mrpt::RAD2DEG(std::abs(moved.phi())) << " deg from it";
+      ev.message = msg.str();
+      return ev;
+    }
     if (err <= params_.confirm_xy_m + params_.confirm_per_m * dist && err_yaw <= params_.confirm_yaw)
     {
       addLoopEdge(pending_->anchor, pending_->kf, pending_->matched, pending_->reg);

@@ -58,6 +58,14 @@ struct LoopClosureParams : public mrpt::config::CLoadableOptions
   double confirm_xy_m = 0.05;     ///< [m]
   double confirm_per_m = 0.02;    ///< [m per m driven]
   double confirm_yaw = mrpt::DEG2RAD(1.5);  ///< [rad] (ini: deg)
+  /// A keyframe confirms (or replaces) a candidate only when the odometry
+  /// since it has moved at least confirm_min_move_m or turned at least
+  /// confirm_min_turn: one standing where the candidate stood sees the same
+  /// submap the same way and repeats an aliased match (b17 compact nbv,
+  /// stop-and-scan: a 16 cm false closure "confirmed" 2 cm away). Nearer
+  /// keyframes wait (within confirm_within). 0 and 0 = off.
+  double confirm_min_move_m = 0.0;  ///< [m]
+  double confirm_min_turn = 0.0;    ///< [rad] (ini: deg)
   /// The maps are rebuilt from the keyframes when a relaxation moved a
   /// keyframe by more than this [m] (or yaw x 3 m by more than it).
   double rebuild_min_shift_m = 0.02;
@@ -169,6 +177,9 @@ class LoopCloser
   std::optional<IcpResult> match(LoopEvent& ev, std::size_t& anchor);
   void addLoopEdge(std::size_t anchor, std::size_t kf, const mrpt::poses::CPose2D& matched,
                    const IcpResult& reg);
+  /// Has a keyframe that moved `moved` (odometry) since the candidate
+  /// moved or turned enough to confirm it (confirm_min_move_m / _turn)?
+  bool independentOf(const mrpt::poses::CPose2D& moved) const;
 
   LoopClosureParams params_;
   IcpParams icp_;
