@@ -96,6 +96,12 @@ def number(row, col):
         return None
 
 
+def paired(pairs, col):
+    """(before, after) values of `col` over the pairs where both are numbers."""
+    vals = [(number(b, col), number(r, col)) for b, r in pairs]
+    return [(x, y) for x, y in vals if x is not None and y is not None]
+
+
 def fmt(v, decimals):
     return "-" if v is None else f"{v:.{decimals}f}"
 
@@ -123,13 +129,11 @@ def time_table(pairs, labels):
         items = groups[g]
         cells = []
         for col, _ in TIMES:
-            vals = [(number(b, col), number(r, col)) for b, r in items]
-            vals = [(x, y) for x, y in vals if x is not None and y is not None]
+            vals = paired(items, col)
             tb, ta = sum(x for x, _ in vals), sum(y for _, y in vals)
             reach = "" if col == "sim_time_s" else f" ({len(vals)} of {len(items)})"
             cells.append(f"{tb:.0f} -> {ta:.0f} s: **{ta / tb:.3f}**{reach}" if tb > 0 else "-")
-        ratios = sorted(number(r, "sim_time_s") / number(b, "sim_time_s") for b, r in items
-                        if number(b, "sim_time_s") and number(r, "sim_time_s") is not None)
+        ratios = sorted(y / x for x, y in paired(items, "sim_time_s") if x)
         per_run = f"{statistics.median(ratios):.3f}, {ratios[-1]:.3f}" if ratios else "-"
         L.append(f"| {' '.join(x for x in g if x)} | {len(items)} | " + " | ".join(cells) + f" | {per_run} |")
     return L + [""]
@@ -164,8 +168,7 @@ def main():
               f"{len(items)} pairs, {len(both)} with both runs successful. Cells: mean / worst.", "",
               f"| figure | {labels[0]} | {labels[1]} | better / worse / same |", "|---|---|---|---|"]
         for col, label, higher, dec in FIGURES:
-            vals = [(number(b, col), number(r, col)) for b, r in both]
-            vals = [(x, y) for x, y in vals if x is not None and y is not None]
+            vals = paired(both, col)
             if not vals:
                 continue
             xb = [x for x, _ in vals]
