@@ -729,6 +729,49 @@ TEST(StopAndScanDriver, GuardHoldsTheFootprintItsMarginFromAWallTheWaypointIsToo
   expectStandsStill(rig);
 }
 
+// The compact robot driven at full speed straight at the corridor world's
+// east wall (face x = 3.925) through the guard alone, on a base that brakes
+// at 0.5 m/s^2: the front's least distance to the wall, and the collisions.
+std::pair<double, std::size_t> fullSpeedAtTheWall(double guard_knows_accel_mps2)
+{
+  auto cfg = sim::SimConfig::defaults("compact");
+  cfg.robot.max_accel_mps2 = 0.5;
+  cfg.robot.max_angular_accel = mrpt::DEG2RAD(90.0);
+  sim::Simulator sim(sim::loadWorld(corridorWorld(), mrpt::poses::CPose2D(1.0, 0.8, 0.0)),
+                     cfg.robot, cfg.cameras, cfg.sim);
+  apps::SimRobot robot(sim);
+  navigation::detail::GuardParams g;
+  g.length_m = cfg.robot.length_m;
+  g.width_m = cfg.robot.width_m;
+  g.max_accel_mps2 = guard_knows_accel_mps2;
+  g.max_angular_accel = guard_knows_accel_mps2 > 0 ? cfg.robot.max_angular_accel : 0.0;
+  navigation::detail::FootprintGuard guard(robot, g);
+  double least = 1e9;
+  for (int k = 0; k < 100; k++)
+  {
+    guard.setVelocity(0.5, 0.0, 0.0);
+    guard.step(0.1);
+    least = std::min(least, 3.925 - (sim.robot().groundTruth().x() + 0.5 * cfg.robot.length_m));
+  }
+  return {least, sim.robot().collisions()};
+}
+
+TEST(FootprintGuard, OnABaseWithAccelerationLimitsItKeepsTheMarginWhileBraking)
+{
+  // Told the limits, the guard slows the base while it can still brake
+  // within its margin (0.03 m) of the wall; a guard that assumes commands
+  // are executed at once holds them too late (horizon 0.3 s = 0.15 m at
+  // 0.5 m/s, the braking distance 0.25 m) and the base runs on.
+  const auto [aware, aware_hits] = fullSpeedAtTheWall(0.5);
+  const auto [unaware, unaware_hits] = fullSpeedAtTheWall(0.0);
+  std::cout << "[ accel guard ] least front clearance: aware " << aware << " m, unaware "
+            << unaware << " m (" << unaware_hits << " refused steps)" << std::endl;
+  EXPECT_EQ(aware_hits, 0u);
+  EXPECT_GE(aware, 0.03 - 0.005);
+  EXPECT_LE(aware, 0.10) << "and it got there (slowed, not stopped early)";
+  EXPECT_LT(unaware, 0.02) << "control: without the limits the margin is lost";
+}
+
 TEST(StopAndScanDriver, GuardRefusesATurnTheCorridorIsTooNarrowFor)
 {
   // The omniRob (1.2 x 0.712 m) lengthwise in the 1.1 m corridor: turning

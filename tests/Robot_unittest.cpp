@@ -41,6 +41,39 @@ TEST(OmniRobot, OmnidirectionalKinematics)
   EXPECT_NEAR(mrpt::math::wrapToPi(r.groundTruth().phi() - phi0), mrpt::DEG2RAD(45.0) * 0.5, 1e-9);
 }
 
+TEST(OmniRobot, AccelerationLimitsRampTheVelocityUpAndDownAndABumpStopsIt)
+{
+  auto p = noiseless();
+  p.max_accel_mps2 = 1.0;
+  p.max_angular_accel = mrpt::DEG2RAD(90.0);
+  sim::OmniRobot r(p, CPose2D(0, 0, 0));
+  std::mt19937_64 rng(1);
+  r.step(0.5, 0.0, 0.0, 0.05, rng, nullptr);
+  EXPECT_NEAR(r.velocity().vx, 0.05, 1e-12) << "1 m/s^2 for 50 ms";
+  for (int i = 1; i < 20; i++) r.step(0.5, 0.0, 0.0, 0.05, rng, nullptr);
+  EXPECT_NEAR(r.velocity().vx, 0.5, 1e-12);
+  // 0.5 s ramping (0.05 s x 0.05 x (1 + ... + 10) = 0.1375 m), 0.5 s at 0.5 m/s.
+  EXPECT_NEAR(r.groundTruth().x(), 0.1375 + 0.25, 1e-9);
+  // A turn commanded at once while translating: the translation brakes
+  // (the vector moves towards zero) and the rotation ramps at 90 deg/s^2.
+  r.step(0.0, 0.0, mrpt::DEG2RAD(45.0), 0.05, rng, nullptr);
+  EXPECT_NEAR(r.velocity().vx, 0.45, 1e-12);
+  EXPECT_NEAR(r.velocity().omega, mrpt::DEG2RAD(4.5), 1e-12);
+  const double x0 = r.groundTruth().x();
+  for (int i = 0; i < 20; i++) r.step(0.0, 0.0, 0.0, 0.05, rng, nullptr);
+  EXPECT_EQ(r.velocity().vx, 0.0);
+  EXPECT_EQ(r.velocity().omega, 0.0);
+  EXPECT_NEAR(r.groundTruth().x() - x0, 0.05 * (0.40 + 0.35 + 0.30 + 0.25 + 0.20 + 0.15 + 0.10 + 0.05),
+              1e-6) << "braking from 0.45 m/s at 1 m/s^2";
+  // A bump stops the base: the next step starts from rest.
+  const sim::World room = test::boxRoom(4, 4, 2.5, CPose2D(2, 2, 0));
+  sim::CollisionChecker checker(room, 0.03, 0.645);
+  sim::OmniRobot b(p, CPose2D(3.39, 2.0, 0));  // front 0.01 m from the wall at x = 4
+  for (int i = 0; i < 5; i++) b.step(0.5, 0.0, 0.0, 0.05, rng, &checker);
+  EXPECT_GT(b.collisions(), 0u);
+  EXPECT_EQ(b.velocity().vx, 0.0);
+}
+
 TEST(OmniRobot, FirstOdometryIsOriginAndMatchesMotionWithoutNoise)
 {
   sim::OmniRobot r(noiseless(), CPose2D(5, -3, 1.0));

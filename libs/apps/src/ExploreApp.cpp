@@ -93,6 +93,8 @@ ExploreConfig loadConfig(const ExploreOptions& opts)
   c.driver = navigation::DriverParams::forFootprint(c.sim.robot.length_m, c.sim.robot.width_m);
   c.driver.max_v_mps = c.sim.robot.max_v_mps;
   c.driver.max_w = c.sim.robot.max_w;
+  c.driver.max_accel_mps2 = c.sim.robot.max_accel_mps2;
+  c.driver.max_angular_accel = c.sim.robot.max_angular_accel;
   common::loadChecked(c.driver, *cfg, "navigation");
   common::loadChecked(c.explore, *cfg, ExploreParams::section());
   if (opts.seed)

@@ -38,6 +38,13 @@ void SimRobot::setVelocity(double vx_mps, double vy_mps, double w_radps)
   cmd_ = {vx_mps, vy_mps, w_radps};
 }
 
+mrpt::math::TTwist2D SimRobot::velocity() const
+{
+  const auto& rp = sim_.robot().params();
+  if (rp.max_accel_mps2 > 0 || rp.max_angular_accel > 0) return sim_.robot().velocity();
+  return cmd_;
+}
+
 void SimRobot::stop()
 {
   cmd_ = {0, 0, 0};

@@ -36,6 +36,7 @@ bool turnsOnTheWay(const exploration::PlanResult& plan, const exploration::PathP
 
 void ExplorationLoop::scanAndIntegrate(bool beside)
 {
+  if (!beside) standStill();
   settleScan();  // SlamIcp integrates one stop after the other
   const Scan scan = scans_.scan();
   if (!scan.observations)
@@ -63,6 +64,19 @@ void ExplorationLoop::scanAndIntegrate(bool beside)
   mrpt::system::CTicTac tic;
   const auto rep = slam_.processStop(*scan.observations, scan.odometry, scan.timestamp);
   applyScan(scan, rep, tic.Tac(), odo);
+}
+
+void ExplorationLoop::standStill()
+{
+  // A base with acceleration limits ([robot] max_accel_mps2) still moves
+  // after a drive's stop(): a standing scan waits until it stands (the
+  // guard checked that braking keeps its margin). Without limits it stands.
+  constexpr int kMaxSteps = 200;
+  for (int k = 0; k < kMaxSteps && navigation::isMoving(robot_); k++)
+  {
+    robot_.stop();
+    robot_.step(driver_->params().dt_s);
+  }
 }
 
 bool ExplorationLoop::pendingDue() const

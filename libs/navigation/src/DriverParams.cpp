@@ -28,6 +28,8 @@ void DriverParams::loadFromConfigFile(const mrpt::config::CConfigFileBase& c, co
   MRPT_LOAD_CONFIG_VAR(shape_margin_m, double, c, s);
   MRPT_LOAD_CONFIG_VAR(max_v_mps, double, c, s);
   MRPT_LOAD_CONFIG_VAR_DEGREES(max_w, c, s);
+  MRPT_LOAD_CONFIG_VAR(max_accel_mps2, double, c, s);
+  MRPT_LOAD_CONFIG_VAR_DEGREES(max_angular_accel, c, s);
   MRPT_LOAD_CONFIG_VAR(min_obstacle_height_m, double, c, s);
   MRPT_LOAD_CONFIG_VAR(max_obstacle_height_m, double, c, s);
   MRPT_LOAD_CONFIG_VAR(obstacle_cell_m, double, c, s);
@@ -67,6 +69,8 @@ void DriverParams::loadFromConfigFile(const mrpt::config::CConfigFileBase& c, co
   requireValid(shape_margin_m >= 0, c, s, "shape_margin_m", "must be >= 0");
   requireValid(max_v_mps > 0, c, s, "max_v_mps", "must be positive");
   requireValid(max_w > 0, c, s, "max_w", "must be positive");
+  requireValid(max_accel_mps2 >= 0, c, s, "max_accel_mps2", "must be >= 0 (0 = no limit)");
+  requireValid(max_angular_accel >= 0, c, s, "max_angular_accel", "must be >= 0 (0 = no limit)");
   requireValid(max_obstacle_height_m > min_obstacle_height_m, c, s, "max_obstacle_height_m",
                "must exceed min_obstacle_height_m");
   requireValid(obstacle_cell_m >= 0 && obstacle_cell_m <= 0.5, c, s, "obstacle_cell_m",
@@ -121,6 +125,8 @@ void DriverParams::saveToConfigFile(mrpt::config::CConfigFileBase& c, const std:
   MRPT_SAVE_CONFIG_VAR(shape_margin_m, c, s);
   MRPT_SAVE_CONFIG_VAR(max_v_mps, c, s);
   MRPT_SAVE_CONFIG_VAR_DEGREES(max_w, c, s);
+  MRPT_SAVE_CONFIG_VAR(max_accel_mps2, c, s);
+  MRPT_SAVE_CONFIG_VAR_DEGREES(max_angular_accel, c, s);
   MRPT_SAVE_CONFIG_VAR(min_obstacle_height_m, c, s);
   MRPT_SAVE_CONFIG_VAR(max_obstacle_height_m, c, s);
   MRPT_SAVE_CONFIG_VAR(obstacle_cell_m, c, s);

@@ -1,6 +1,8 @@
 /* voxplore — FootprintGuard: velocity commands that keep the footprint's margin. */
 #include "FootprintGuard.h"
 
+#include <voxplore/common/velocity_ramp.h>
+
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
@@ -74,6 +76,7 @@ bool FootprintGuard::obstacles(mrpt::maps::CSimplePointsMap& out_robot_frame)
 
 double FootprintGuard::commandClearance(double vx, double vy, double w) const
 {
+  if (accelerationLimited()) return rampedClearance(vx, vy, w);
   const double hl = 0.5 * params_.length_m, hw = 0.5 * params_.width_m;
   const double H = params_.horizon_s;
   // Sub-steps of at most 1 cm of any footprint point's travel.
@@ -83,6 +86,34 @@ double FootprintGuard::commandClearance(double vx, double vy, double w) const
   for (int k = 1; k <= n; k++)
     best = std::min(best, rectangleClearance(relevant_, hl, hw, poseAfter(vx, vy, w, H * k / n)));
   return best;
+}
+
+double FootprintGuard::rampedClearance(double vx, double vy, double w) const
+{
+  // The base's motion as the simulator executes it (common::rampedVelocity):
+  // towards the command for horizon_s, then braking to a stand; the rectangle
+  // is tested every 1 cm of any footprint point's travel and where it stops.
+  const double hl = 0.5 * params_.length_m, hw = 0.5 * params_.width_m, r = std::hypot(hl, hw);
+  const double a = params_.max_accel_mps2, alpha = params_.max_angular_accel;
+  constexpr double kDt = 0.01;  // integration step [s]
+  constexpr int kMaxSteps = 10000;
+  mrpt::math::TTwist2D u = inner_.velocity();
+  const mrpt::math::TTwist2D cmd{vx, vy, w}, halt{0, 0, 0};
+  CPose2D pose(0, 0, 0);
+  double best = std::numeric_limits<double>::infinity(), since = 0;
+  const int ramp_steps = std::max(1, static_cast<int>(std::lround(params_.horizon_s / kDt)));
+  for (int k = 0; k < kMaxSteps; k++)
+  {
+    const bool braking = k >= ramp_steps;
+    if (braking && u.vx == 0 && u.vy == 0 && u.omega == 0) break;
+    u = common::rampedVelocity(u, braking ? halt : cmd, a, alpha, kDt);
+    pose = pose + poseAfter(u.vx, u.vy, u.omega, kDt);
+    since += (std::hypot(u.vx, u.vy) + std::abs(u.omega) * r) * kDt;
+    if (since < 0.01) continue;
+    since = 0;
+    best = std::min(best, rectangleClearance(relevant_, hl, hw, pose));
+  }
+  return std::min(best, rectangleClearance(relevant_, hl, hw, pose));
 }
 
 void FootprintGuard::setVelocity(double vx_mps, double vy_mps, double w_radps)
@@ -107,8 +138,17 @@ void FootprintGuard::setVelocity(double vx_mps, double vy_mps, double w_radps)
   const double floor_m = std::min(params_.margin_m, last_clearance_m_) - 1e-4;
   // Only points within the circumcircle + the centre's travel + floor_m
   // can come nearer than floor_m to the rectangle at any scaled command.
-  const double reach = std::hypot(hl, hw) + std::hypot(vx_mps, vy_mps) * params_.horizon_s +
-                       std::max(floor_m, 0.0) + 1e-3;
+  double travel = std::hypot(vx_mps, vy_mps) * params_.horizon_s;
+  if (accelerationLimited())
+  {
+    // Ramping and braking: at most the faster of the held and the commanded
+    // speed, for horizon_s and then its braking distance.
+    const auto u = inner_.velocity();
+    const double v = std::max(std::hypot(u.vx, u.vy), std::hypot(vx_mps, vy_mps));
+    travel = v * params_.horizon_s +
+             (params_.max_accel_mps2 > 0 ? v * v / (2 * params_.max_accel_mps2) : 0.0);
+  }
+  const double reach = std::hypot(hl, hw) + travel + std::max(floor_m, 0.0) + 1e-3;
   relevant_.clear();
   for (const auto& q : near_)
     if (q.squaredNorm() <= reach * reach) relevant_.push_back(q);

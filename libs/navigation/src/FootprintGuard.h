@@ -37,13 +37,20 @@ struct GuardParams
   double width_m = 0.712;    ///< footprint along +Y [m]
   double margin_m = 0.03;    ///< clearance the guard keeps [m]
   double horizon_s = 0.3;    ///< a command must keep the margin over this long [s]
+  /// The base's acceleration limits (0 = commands are executed at once): a
+  /// command must keep the margin while the base ramps towards it for
+  /// horizon_s and then brakes to a stand [m/s^2], [rad/s^2].
+  double max_accel_mps2 = 0;
+  double max_angular_accel = 0;
   double z_min_m = 0.05;     ///< obstacle points below this are floor [m]
   double z_max_m = 0.70;     ///< points above this pass over the robot [m]
 };
 
 /// @brief A RobotInterface that forwards to another one and scales every
 ///        velocity command down (keeping its direction and curvature) until
-///        holding it for horizon_s keeps the footprint at least margin_m from
+///        holding it for horizon_s (with acceleration limits: ramping towards
+///        it from the velocity the base holds, then braking to a stand)
+///        keeps the footprint at least margin_m from
 ///        every obstacle point the robot senses, or does not bring it closer
 ///        when it already is nearer than that (so the robot can always back
 ///        away). The obstacle points are read once per robot time step.
@@ -75,6 +82,11 @@ class FootprintGuard : public RobotInterface
  private:
   bool refreshPoints();
   double commandClearance(double vx, double vy, double w) const;
+  double rampedClearance(double vx, double vy, double w) const;
+  bool accelerationLimited() const
+  {
+    return params_.max_accel_mps2 > 0 || params_.max_angular_accel > 0;
+  }
 
   RobotInterface& inner_;
   GuardParams params_;

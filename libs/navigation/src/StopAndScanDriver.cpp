@@ -71,6 +71,8 @@ std::unique_ptr<FootprintGuard> makeGuard(RobotInterface& robot, const DriverPar
   g.width_m = p.footprint_width_m;
   g.margin_m = p.guard_margin_m;
   g.horizon_s = p.guard_horizon_s;
+  g.max_accel_mps2 = p.max_accel_mps2;
+  g.max_angular_accel = p.max_angular_accel;
   g.z_min_m = p.min_obstacle_height_m;
   g.z_max_m = p.max_obstacle_height_m;
   return std::make_unique<FootprintGuard>(robot, g);

@@ -81,7 +81,9 @@ DriveResult StopAndScanDriver::straightDrive(const Eigen::Vector2d& waypoint,
     bandPoints(pts, params_.min_obstacle_height_m, params_.max_obstacle_height_m, band);
     end = way(band, tx, ty, p);
     if (end) break;
-    const double ramp = params_.max_v_mps * d / 0.3;  // slowing down over the last 0.3 m
+    double ramp = params_.max_v_mps * d / 0.3;  // slowing down over the last 0.3 m
+    if (params_.max_accel_mps2 > 0)  // ... and no harder than the base brakes (80 % of it)
+      ramp = std::min(ramp, std::sqrt(1.6 * params_.max_accel_mps2 * d));
     const bool corner = pass && corner_speed_mps >= 0;
     double v = std::min(v_turn, !pass   ? std::min(params_.max_v_mps, ramp)
                                 : corner ? std::min(params_.max_v_mps, std::max(corner_speed_mps, ramp))

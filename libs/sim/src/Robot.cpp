@@ -2,9 +2,11 @@
 #include <mrpt/math/wrap2pi.h>
 #include <mrpt/poses/CPosePDF.h>
 #include <voxplore/common/config.h>
+#include <voxplore/common/velocity_ramp.h>
 #include <voxplore/sim/Robot.h>
 
 #include <Eigen/Cholesky>
+#include <algorithm>
 #include <cmath>
 
 namespace voxplore::sim
@@ -48,6 +50,8 @@ void RobotParams::loadFromConfigFile(const mrpt::config::CConfigFileBase& c, con
   MRPT_LOAD_CONFIG_VAR(camera_height_m, double, c, s);
   MRPT_LOAD_CONFIG_VAR(max_v_mps, double, c, s);
   MRPT_LOAD_CONFIG_VAR_DEGREES(max_w, c, s);
+  MRPT_LOAD_CONFIG_VAR(max_accel_mps2, double, c, s);
+  MRPT_LOAD_CONFIG_VAR_DEGREES(max_angular_accel, c, s);
   MRPT_LOAD_CONFIG_VAR(motion_noise_rel, double, c, s);
   MRPT_LOAD_CONFIG_VAR(odo_a1, double, c, s);
   MRPT_LOAD_CONFIG_VAR(odo_a2, double, c, s);
@@ -62,6 +66,8 @@ void RobotParams::loadFromConfigFile(const mrpt::config::CConfigFileBase& c, con
   requireValid(camera_height_m > 0, c, s, "camera_height_m", "must be positive");
   requireValid(max_v_mps > 0, c, s, "max_v_mps", "must be positive");
   requireValid(max_w > 0, c, s, "max_w", "must be positive");
+  requireValid(max_accel_mps2 >= 0, c, s, "max_accel_mps2", "must be >= 0 (0 = no limit)");
+  requireValid(max_angular_accel >= 0, c, s, "max_angular_accel", "must be >= 0 (0 = no limit)");
   requireValid(motion_noise_rel >= 0, c, s, "motion_noise_rel", "must be >= 0");
   requireValid(odo_a1 >= 0 && odo_a2 >= 0 && odo_a3 >= 0 && odo_a4 >= 0, c, s, "odo_a1",
                "odometry model coefficients must be >= 0");
@@ -78,6 +84,8 @@ void RobotParams::saveToConfigFile(mrpt::config::CConfigFileBase& c, const std::
   MRPT_SAVE_CONFIG_VAR(camera_height_m, c, s);
   MRPT_SAVE_CONFIG_VAR(max_v_mps, c, s);
   MRPT_SAVE_CONFIG_VAR_DEGREES(max_w, c, s);
+  MRPT_SAVE_CONFIG_VAR(max_accel_mps2, c, s);
+  MRPT_SAVE_CONFIG_VAR_DEGREES(max_angular_accel, c, s);
   MRPT_SAVE_CONFIG_VAR(motion_noise_rel, c, s);
   MRPT_SAVE_CONFIG_VAR(odo_a1, c, s);
   MRPT_SAVE_CONFIG_VAR(odo_a2, c, s);
@@ -105,6 +113,11 @@ OmniRobot::StepResult OmniRobot::step(
     vy_mps *= params_.max_v_mps / v;
   }
   w_radps = std::clamp(w_radps, -params_.max_w, params_.max_w);
+  vel_ = common::rampedVelocity(vel_, {vx_mps, vy_mps, w_radps}, params_.max_accel_mps2,
+                        params_.max_angular_accel, dt_s);
+  vx_mps = vel_.vx;
+  vy_mps = vel_.vy;
+  w_radps = vel_.omega;
 
   // Executed velocity = commanded x (1 + relative Gaussian error).
   std::normal_distribution<double> gauss(0.0, params_.motion_noise_rel);
@@ -124,6 +137,7 @@ OmniRobot::StepResult OmniRobot::step(
   if (checker && checker->collides(next, params_.footprint()))
   {
     collision_poses_.push_back(gt_);
+    vel_ = {0, 0, 0};  // the bumper stops the base
     r.collided = true;
     return r;
   }

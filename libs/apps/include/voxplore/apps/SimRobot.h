@@ -64,8 +64,10 @@ class SimRobot : public navigation::RobotInterface
   ///        construction (the Simulator draws noisy odometry only when scanning).
   mrpt::poses::CPose2D odometry() const override;
   /// @brief The commanded velocity (the simulator executes it up to motion
-  ///        noise, or not at all when the step would collide).
-  mrpt::math::TTwist2D velocity() const override { return cmd_; }
+  ///        noise, or not at all when the step would collide); with
+  ///        acceleration limits ([robot] max_accel_mps2, max_angular_accel)
+  ///        the velocity the base holds, which reaches the command over time.
+  mrpt::math::TTwist2D velocity() const override;
   /// @brief Casts the SimObstacleSensor fan at the true pose.
   bool obstacles(mrpt::maps::CSimplePointsMap& out_robot_frame) override;
   mrpt::Clock::time_point now() const override { return sim_.now(); }

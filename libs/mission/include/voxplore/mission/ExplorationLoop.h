@@ -216,6 +216,8 @@ class ExplorationLoop
   /// Takes a scan; SlamIcp integrates it at once, or (`beside`, with
   /// scan_latency_s > 0) on a worker thread, its result taken by settleScan().
   void scanAndIntegrate(bool beside = false);
+  /// Brings a robot still moving after its drive's stop() to a stand.
+  void standStill();
   /// The result of the scan being integrated beside the driving, if any,
   /// waited for and taken into the loop (pose, swept path, looks, listener).
   void settleScan();

@@ -23,6 +23,8 @@ struct DriverParams : public mrpt::config::CLoadableOptions
   double shape_margin_m = 0.05;  ///< added to the footprint's circumradius for the navigator [m]
   double max_v_mps = 0.5;        ///< translation speed limit of the navigator [m/s]
   double max_w = mrpt::DEG2RAD(45.0);   ///< rotation speed limit [rad/s] (ini: deg/s)
+  double max_accel_mps2 = 0;      ///< the base's translation acceleration limit; 0 = none [m/s^2]
+  double max_angular_accel = 0;   ///< ... rotation [rad/s^2] (ini: deg/s^2); 0 = none
   double min_obstacle_height_m = 0.05;  ///< obstacle points below this are floor [m]
   double max_obstacle_height_m = 0.70;  ///< points above this pass over the robot [m]
   double obstacle_cell_m = 0.05;  ///< keep one obstacle point per XY cell this big (0: all) [m]

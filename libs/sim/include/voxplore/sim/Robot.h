@@ -4,6 +4,7 @@
 #include <mrpt/config/CLoadableOptions.h>
 #include <mrpt/core/bits_math.h>
 #include <mrpt/obs/CActionRobotMovement2D.h>
+#include <mrpt/math/TTwist2D.h>
 #include <mrpt/poses/CPose2D.h>
 #include <voxplore/sim/CollisionChecker.h>
 
@@ -27,6 +28,11 @@ struct RobotParams : public mrpt::config::CLoadableOptions
   double camera_height_m = 0.60;  ///< height of the camera ring [m]
   double max_v_mps = 0.5;   ///< translation speed limit used by the simulator [m/s]
   double max_w = mrpt::DEG2RAD(45.0);  ///< rotation speed limit [rad/s] (ini: deg/s)
+  /// Translation acceleration limit (the body-frame velocity vector changes by
+  /// at most this per second, braking too); 0 = a command is executed at once [m/s^2]
+  double max_accel_mps2 = 0;
+  /// Rotation acceleration limit; 0 = at once [rad/s^2] (ini: deg/s^2)
+  double max_angular_accel = 0;
   double motion_noise_rel = 0.02;  ///< executed vs commanded velocity, relative 1-sigma
   double odo_a1 = 0.01;    ///< odometry xy std per metre travelled [m/m]
   double odo_a2 = mrpt::RAD2DEG(0.001);  ///< odometry xy std per radian turned [m/rad]
@@ -65,9 +71,9 @@ class OmniRobot
   };
 
   /// @brief Integrates a robot-frame velocity command (clamped to the limits,
-  ///        perturbed by motion noise) for `dt_s`. When `checker` says the new
-  ///        pose collides, the robot stays where it is and the step counts
-  ///        as a collision.
+  ///        reached at the acceleration limits, perturbed by motion noise) for
+  ///        `dt_s`. When `checker` says the new pose collides, the robot stays
+  ///        where it is, stands still, and the step counts as a collision.
   StepResult step(
       double vx_mps, double vy_mps, double w_radps, double dt_s, std::mt19937_64& rng,
       const CollisionChecker* checker);
@@ -82,6 +88,10 @@ class OmniRobot
   mrpt::math::CMatrixDouble33 odometryCovariance(const mrpt::poses::CPose2D& increment) const;
 
   const mrpt::poses::CPose2D& groundTruth() const { return gt_; }
+  /// @brief The robot-frame velocity the base holds now (the last command
+  ///        ramped at the acceleration limits, common::rampedVelocity();
+  ///        without motion noise).
+  const mrpt::math::TTwist2D& velocity() const { return vel_; }
   const mrpt::poses::CPose2D& lastOdometry() const { return odo_; }
   const RobotParams& params() const { return params_; }
   std::size_t collisions() const { return collision_poses_.size(); }
@@ -94,6 +104,7 @@ class OmniRobot
   mrpt::poses::CPose2D gt_;
   mrpt::poses::CPose2D gt_at_last_read_;
   mrpt::poses::CPose2D odo_;
+  mrpt::math::TTwist2D vel_{0, 0, 0};
   std::vector<mrpt::poses::CPose2D> collision_poses_;  // one per refused step
   double travelled_m_ = 0;
 };
