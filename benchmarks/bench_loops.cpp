@@ -309,7 +309,7 @@ LoopColumn measureColumn(const std::vector<Stop>& stops, const SlamBenchData& da
         mapping::Viewpoints views;
         col.submap_keyframes.push_back(near);
         col.submap_points.push_back(
-            double(closer.submapAround(stops[s].gt, views, double(n) * step_m).size()));
+            double(closer.submapAround(stops[s].gt, views, 0.0, double(n) * step_m).size()));
       }
       if (closeLoop(closer, stops, s, step_m, data, o, r == 0, col) && r == 0) closed.push_back(s);
       last = std::move(closer);

@@ -255,6 +255,60 @@ TEST(LoopClosure, AConfirmationMustComeFromAStopThatMovedAwayFromTheCandidate)
   std::cout << "confirmed from " << d_off << " m (off), " << d_on << " m (on)" << std::endl;
 }
 
+TEST(LoopClosure, TheSubmapOfOnePassLeavesADriftedPassOut)
+{
+  // Pass A along the ring's south corridor, x 1.5 -> 11.5, on the truth
+  // (travel 0-10 m); pass B back to x = 7.5 with its estimate 16 cm off
+  // along x (travel 10-14 m: never 12 m older than A where it meets it, so
+  // no detection). The submap of every old keyframe holds both passes, a
+  // double wall 16 cm apart (b17's false closure matched such a submap);
+  // the window of A's travel holds A's walls only.
+  const Scene scene = ringScene();
+  LoopClosureParams p;
+  LoopCloser lc(p, IcpParams{});
+  const IcpResult reg = goodRegistration();
+  std::size_t k = 0;
+  double travel = 0;
+  for (double x = 1.5; x <= 11.5 + 1e-9; x += 0.5, travel += 0.5)
+  {
+    const CPose2D truth(x, 1.5, 0.0);
+    lc.addKeyframe(k, truth, truth, travel, scene.cloudAt(truth), 0.02, k ? &reg : nullptr);
+    k++;
+  }
+  for (double x = 11.5; x >= 7.5 - 1e-9; x -= 0.5, travel += 0.5)
+  {
+    const CPose2D truth(x, 1.5, M_PI), drifted(x + 0.16, 1.5, M_PI);
+    const auto ev =
+        lc.addKeyframe(k, drifted, drifted, travel, scene.cloudAt(truth), 0.02, &reg);
+    ASSERT_FALSE(ev.searched) << "stop " << k;
+    k++;
+  }
+  // The share of submap points off every true wall by more than 5 cm.
+  const auto offWalls = [&](const mrpt::maps::CSimplePointsMap& m)
+  {
+    mrpt::maps::CSimplePointsMap walls;
+    for (const auto& q : scene.pts) walls.insertPointFast(float(q.x()), float(q.y()), 0.f);
+    walls.mark_as_modified();
+    std::size_t off = 0;
+    for (std::size_t i = 0; i < m.size(); i++)
+    {
+      float x, y, z;
+      m.getPoint(i, x, y, z);
+      off += walls.kdTreeClosestPoint2DsqrError(x, y) > 0.05 * 0.05;
+    }
+    return double(off) / double(std::max<std::size_t>(1, m.size()));
+  };
+  voxplore::mapping::Viewpoints views;
+  const CPose2D around(9.5, 1.5, 0.0);
+  const auto both = lc.submapAround(around, views, 0.0, travel);
+  const auto pass_a = lc.submapAround(around, views, 0.0, 10.0);
+  std::cout << "points off the walls: both passes " << offWalls(both) << ", pass A "
+            << offWalls(pass_a) << std::endl;
+  EXPECT_GT(offWalls(both), 0.03);  // the posts and the ends: the walls along x hide the shift
+  EXPECT_LT(offWalls(pass_a), 0.01);
+  EXPECT_GT(pass_a.size(), 1000u);
+}
+
 TEST(LoopClosure, DisabledKeepsTheEstimate)
 {
   LoopClosureParams p;

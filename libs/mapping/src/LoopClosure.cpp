@@ -9,6 +9,7 @@
 #include <Eigen/Eigenvalues>
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <sstream>
 #include <unordered_set>
 
@@ -25,6 +26,7 @@ void LoopClosureParams::loadFromConfigFile(const mrpt::config::CConfigFileBase& 
   MRPT_LOAD_CONFIG_VAR(search_radius_m, double, c, s);
   MRPT_LOAD_CONFIG_VAR(submap_radius_m, double, c, s);
   MRPT_LOAD_CONFIG_VAR(submap_cell_m, double, c, s);
+  MRPT_LOAD_CONFIG_VAR(submap_pass_m, double, c, s);
   MRPT_LOAD_CONFIG_VAR(drift_per_m, double, c, s);
   MRPT_LOAD_CONFIG_VAR(min_window_m, double, c, s);
   MRPT_LOAD_CONFIG_VAR(max_window_m, double, c, s);
@@ -60,6 +62,7 @@ void LoopClosureParams::loadFromConfigFile(const mrpt::config::CConfigFileBase& 
   requireValid(submap_radius_m >= search_radius_m, c, s, "submap_radius_m",
                "must be >= search_radius_m");
   requireValid(submap_cell_m > 0 && submap_cell_m < 1, c, s, "submap_cell_m", "must be in (0, 1) m");
+  requireValid(submap_pass_m >= 0, c, s, "submap_pass_m", "must be >= 0 (0 = off)");
   requireValid(drift_per_m >= 0, c, s, "drift_per_m", "must be >= 0");
   requireValid(min_window_m > 0 && max_window_m >= min_window_m, c, s, "min_window_m",
                "must be > 0 and <= max_window_m");
@@ -88,6 +91,7 @@ void LoopClosureParams::saveToConfigFile(mrpt::config::CConfigFileBase& c, const
   MRPT_SAVE_CONFIG_VAR(search_radius_m, c, s);
   MRPT_SAVE_CONFIG_VAR(submap_radius_m, c, s);
   MRPT_SAVE_CONFIG_VAR(submap_cell_m, c, s);
+  MRPT_SAVE_CONFIG_VAR(submap_pass_m, c, s);
   MRPT_SAVE_CONFIG_VAR(drift_per_m, c, s);
   MRPT_SAVE_CONFIG_VAR(min_window_m, c, s);
   MRPT_SAVE_CONFIG_VAR(max_window_m, c, s);
@@ -218,7 +222,7 @@ Eigen::Matrix3d LoopCloser::edgeInformation(const IcpResult* reg, const CPose2D&
 }
 
 mrpt::maps::CSimplePointsMap LoopCloser::submapAround(const CPose2D& around, Viewpoints& viewpoints,
-                                                      double max_travel_m) const
+                                                      double min_travel_m, double max_travel_m) const
 {
   mrpt::maps::CSimplePointsMap out;
   viewpoints.clear();
@@ -226,7 +230,9 @@ mrpt::maps::CSimplePointsMap LoopCloser::submapAround(const CPose2D& around, Vie
   const double inv = 1.0 / params_.submap_cell_m;
   for (const auto& kf : keyframes_)
   {
-    if (kf.travel_m > max_travel_m || xyDist(kf.pose, around) > params_.submap_radius_m) continue;
+    if (kf.travel_m < min_travel_m || kf.travel_m > max_travel_m ||
+        xyDist(kf.pose, around) > params_.submap_radius_m)
+      continue;
     const double c = std::cos(kf.pose.phi()), s = std::sin(kf.pose.phi());
     const auto& xs = kf.cloud.getPointsBufferRef_x();
     const auto& ys = kf.cloud.getPointsBufferRef_y();
@@ -268,8 +274,15 @@ std::optional<IcpResult> LoopCloser::match(LoopEvent& ev, std::size_t& anchor)
   }
   if (!any) return std::nullopt;
   ev.searched = true;
+  // One pass: the keyframes within submap_pass_m of travel of the nearest.
+  const double pass_lo = params_.submap_pass_m > 0
+                             ? keyframes_[anchor].travel_m - params_.submap_pass_m
+                             : -std::numeric_limits<double>::infinity();
+  const double pass_hi = params_.submap_pass_m > 0
+                             ? std::min(max_travel, keyframes_[anchor].travel_m + params_.submap_pass_m)
+                             : max_travel;
   Viewpoints views;
-  const auto submap = submapAround(cur.pose, views, max_travel);
+  const auto submap = submapAround(cur.pose, views, pass_lo, pass_hi);
   const double travelled = cur.travel_m - keyframes_[anchor].travel_m;
   IcpParams p = icp_;
   p.enabled = true;
@@ -301,8 +314,9 @@ std::optional<IcpResult> LoopCloser::match(LoopEvent& ev, std::size_t& anchor)
   }
   // The old keyframe nearest to the matched pose anchors the edge.
   double dmin = 1e9;
-  for (std::size_t i = 0; i + 1 < keyframes_.size() && keyframes_[i].travel_m <= max_travel; i++)
-    if (const double d = xyDist(keyframes_[i].pose, r.pose); d < dmin)
+  for (std::size_t i = 0; i + 1 < keyframes_.size() && keyframes_[i].travel_m <= pass_hi; i++)
+    if (const double d = xyDist(keyframes_[i].pose, r.pose);
+        d < dmin && keyframes_[i].travel_m >= pass_lo)
     {
       dmin = d;
       anchor = i;

@@ -34,6 +34,10 @@ struct LoopClosureParams : public mrpt::config::CLoadableOptions
   /// The submap: old keyframes within this of the current estimate [m].
   double submap_radius_m = 7.0;
   double submap_cell_m = 0.03;    ///< the submap's 2D point reduction [m]
+  /// The submap holds only the keyframes within this much travel of the
+  /// nearest old one (one pass, consistent with itself); 0 = every old
+  /// keyframe in submap_radius_m (passes drifted apart pull a match between them) [m]
+  double submap_pass_m = 0;
   /// Pose uncertainty that the search covers: drift_per_m times the distance
   /// travelled since the old keyframe, clamped to [min_window_m, max_window_m].
   double drift_per_m = 0.02;
@@ -150,11 +154,11 @@ class LoopCloser
   const LoopClosureParams& params() const { return params_; }
 
   /// @brief The 2D submap of the old keyframes near `around` (keyframes with
-  ///        travel_m <= max_travel_m within submap_radius_m), map frame.
-  ///        Empty when none. `viewpoints` gets each point's keyframe
-  ///        position (where it was seen from).
+  ///        travel_m in [min_travel_m, max_travel_m] within submap_radius_m),
+  ///        map frame. Empty when none. `viewpoints` gets each point's
+  ///        keyframe position (where it was seen from).
   mrpt::maps::CSimplePointsMap submapAround(const mrpt::poses::CPose2D& around, Viewpoints& viewpoints,
-                                            double max_travel_m) const;
+                                            double min_travel_m, double max_travel_m) const;
 
   /// @brief Relaxes the graph now (MRPT's SPA Levenberg-Marquardt), copies the
   ///        result into keyframes(); returns the largest and mean shift [m].
