@@ -275,12 +275,12 @@ std::optional<IcpResult> LoopCloser::match(LoopEvent& ev, std::size_t& anchor)
   if (!any) return std::nullopt;
   ev.searched = true;
   // One pass: the keyframes within submap_pass_m of travel of the nearest.
-  const double pass_lo = params_.submap_pass_m > 0
-                             ? keyframes_[anchor].travel_m - params_.submap_pass_m
-                             : -std::numeric_limits<double>::infinity();
-  const double pass_hi = params_.submap_pass_m > 0
-                             ? std::min(max_travel, keyframes_[anchor].travel_m + params_.submap_pass_m)
-                             : max_travel;
+  double pass_lo = -std::numeric_limits<double>::infinity(), pass_hi = max_travel;
+  if (params_.submap_pass_m > 0)
+  {
+    pass_lo = keyframes_[anchor].travel_m - params_.submap_pass_m;
+    pass_hi = std::min(max_travel, keyframes_[anchor].travel_m + params_.submap_pass_m);
+  }
   Viewpoints views;
   const auto submap = submapAround(cur.pose, views, pass_lo, pass_hi);
   const double travelled = cur.travel_m - keyframes_[anchor].travel_m;

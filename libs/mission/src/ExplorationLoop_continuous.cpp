@@ -71,11 +71,13 @@ void ExplorationLoop::standStill()
   // A base with acceleration limits ([robot] max_accel_mps2) still moves
   // after a drive's stop(): a standing scan waits until it stands (the
   // guard checked that braking keeps its margin). Without limits it stands.
+  if (!navigation::isMoving(robot_)) return;
+  robot_.stop();
   constexpr int kMaxSteps = 200;
-  for (int k = 0; k < kMaxSteps && navigation::isMoving(robot_); k++)
+  for (int k = 0; k < kMaxSteps; k++)
   {
-    robot_.stop();
     robot_.step(driver_->params().dt_s);
+    if (!navigation::isMoving(robot_)) break;
   }
 }
 

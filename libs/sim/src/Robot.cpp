@@ -114,7 +114,7 @@ OmniRobot::StepResult OmniRobot::step(
   }
   w_radps = std::clamp(w_radps, -params_.max_w, params_.max_w);
   vel_ = common::rampedVelocity(vel_, {vx_mps, vy_mps, w_radps}, params_.max_accel_mps2,
-                        params_.max_angular_accel, dt_s);
+                                params_.max_angular_accel, dt_s);
   vx_mps = vel_.vx;
   vy_mps = vel_.vy;
   w_radps = vel_.omega;
