@@ -9,11 +9,11 @@
 #include <Eigen/Eigenvalues>
 #include <algorithm>
 #include <cmath>
-#include <limits>
 #include <sstream>
 #include <unordered_set>
 
 #include "cell_key.h"
+#include "pose_diff.h"
 
 namespace voxplore::mapping
 {
@@ -27,6 +27,10 @@ void LoopClosureParams::loadFromConfigFile(const mrpt::config::CConfigFileBase& 
   MRPT_LOAD_CONFIG_VAR(submap_radius_m, double, c, s);
   MRPT_LOAD_CONFIG_VAR(submap_cell_m, double, c, s);
   MRPT_LOAD_CONFIG_VAR(submap_pass_m, double, c, s);
+  MRPT_LOAD_CONFIG_VAR(anchor_check_m, double, c, s);
+  MRPT_LOAD_CONFIG_VAR_DEGREES(anchor_check_yaw, c, s);
+  MRPT_LOAD_CONFIG_VAR(anchor_pass_m, double, c, s);
+  MRPT_LOAD_CONFIG_VAR(anchor_min_goodness, double, c, s);
   MRPT_LOAD_CONFIG_VAR(drift_per_m, double, c, s);
   MRPT_LOAD_CONFIG_VAR(min_window_m, double, c, s);
   MRPT_LOAD_CONFIG_VAR(max_window_m, double, c, s);
@@ -63,6 +67,11 @@ void LoopClosureParams::loadFromConfigFile(const mrpt::config::CConfigFileBase& 
                "must be >= search_radius_m");
   requireValid(submap_cell_m > 0 && submap_cell_m < 1, c, s, "submap_cell_m", "must be in (0, 1) m");
   requireValid(submap_pass_m >= 0, c, s, "submap_pass_m", "must be >= 0 (0 = off)");
+  requireValid(anchor_check_m >= 0, c, s, "anchor_check_m", "must be >= 0 (0 = off)");
+  requireValid(anchor_check_yaw >= 0, c, s, "anchor_check_yaw", "must be >= 0");
+  requireValid(anchor_pass_m > 0, c, s, "anchor_pass_m", "must be > 0 m");
+  requireValid(anchor_min_goodness > 0 && anchor_min_goodness <= 1, c, s, "anchor_min_goodness",
+               "must be in (0, 1]");
   requireValid(drift_per_m >= 0, c, s, "drift_per_m", "must be >= 0");
   requireValid(min_window_m > 0 && max_window_m >= min_window_m, c, s, "min_window_m",
                "must be > 0 and <= max_window_m");
@@ -92,6 +101,10 @@ void LoopClosureParams::saveToConfigFile(mrpt::config::CConfigFileBase& c, const
   MRPT_SAVE_CONFIG_VAR(submap_radius_m, c, s);
   MRPT_SAVE_CONFIG_VAR(submap_cell_m, c, s);
   MRPT_SAVE_CONFIG_VAR(submap_pass_m, c, s);
+  MRPT_SAVE_CONFIG_VAR(anchor_check_m, c, s);
+  MRPT_SAVE_CONFIG_VAR_DEGREES(anchor_check_yaw, c, s);
+  MRPT_SAVE_CONFIG_VAR(anchor_pass_m, c, s);
+  MRPT_SAVE_CONFIG_VAR(anchor_min_goodness, c, s);
   MRPT_SAVE_CONFIG_VAR(drift_per_m, c, s);
   MRPT_SAVE_CONFIG_VAR(min_window_m, c, s);
   MRPT_SAVE_CONFIG_VAR(max_window_m, c, s);
@@ -121,12 +134,22 @@ void LoopClosureParams::saveToConfigFile(mrpt::config::CConfigFileBase& c, const
   MRPT_SAVE_CONFIG_VAR(max_iterations, c, s);
 }
 
+using detail::cellKey;
+using detail::xyDist;
+using detail::yawDiff;
+
 namespace
 {
-using detail::cellKey;
-
-double yawDiff(const CPose2D& a, const CPose2D& b) { return mrpt::math::wrapToPi(a.phi() - b.phi()); }
-double xyDist(const CPose2D& a, const CPose2D& b) { return std::hypot(a.x() - b.x(), a.y() - b.y()); }
+/// "; its anchor's pass moves it ..." when the anchor-pass check ran
+std::string anchorNote(const LoopEvent& ev)
+{
+  if (ev.anchor_shift_m < 0) return {};
+  std::ostringstream o;
+  o.precision(3);
+  o << "; its anchor's pass moves it " << ev.anchor_shift_m << " m, "
+    << mrpt::RAD2DEG(ev.anchor_shift_yaw) << " deg, goodness " << ev.anchor_goodness;
+  return o.str();
+}
 }  // namespace
 
 mrpt::maps::CSimplePointsMap reduceCloud(const mrpt::maps::CPointsMap& cloud, double cell_m)
@@ -221,109 +244,6 @@ Eigen::Matrix3d LoopCloser::edgeInformation(const IcpResult* reg, const CPose2D&
   return out;
 }
 
-mrpt::maps::CSimplePointsMap LoopCloser::submapAround(const CPose2D& around, Viewpoints& viewpoints,
-                                                      double min_travel_m, double max_travel_m) const
-{
-  mrpt::maps::CSimplePointsMap out;
-  viewpoints.clear();
-  std::unordered_set<uint64_t> seen;
-  const double inv = 1.0 / params_.submap_cell_m;
-  for (const auto& kf : keyframes_)
-  {
-    if (kf.travel_m < min_travel_m || kf.travel_m > max_travel_m ||
-        xyDist(kf.pose, around) > params_.submap_radius_m)
-      continue;
-    const double c = std::cos(kf.pose.phi()), s = std::sin(kf.pose.phi());
-    const auto& xs = kf.cloud.getPointsBufferRef_x();
-    const auto& ys = kf.cloud.getPointsBufferRef_y();
-    for (std::size_t i = 0; i < xs.size(); i++)
-    {
-      const double x = kf.pose.x() + c * xs[i] - s * ys[i];
-      const double y = kf.pose.y() + s * xs[i] + c * ys[i];
-      const auto k = cellKey(static_cast<int64_t>(std::floor(x * inv)),
-                             static_cast<int64_t>(std::floor(y * inv)), 0);
-      if (seen.insert(k).second)
-      {
-        out.insertPointFast(static_cast<float>(x), static_cast<float>(y), 0.f);
-        viewpoints.emplace_back(static_cast<float>(kf.pose.x()), static_cast<float>(kf.pose.y()));
-      }
-    }
-  }
-  out.mark_as_modified();
-  return out;
-}
-
-std::optional<IcpResult> LoopCloser::match(LoopEvent& ev, std::size_t& anchor)
-{
-  const Keyframe& cur = keyframes_.back();
-  const double max_travel = cur.travel_m - params_.min_travel_m;
-  // The nearest old keyframe: is there anything old close enough to overlap?
-  double best = params_.search_radius_m;
-  bool any = false;
-  for (std::size_t i = 0; i + 1 < keyframes_.size(); i++)
-  {
-    const auto& kf = keyframes_[i];
-    if (kf.travel_m > max_travel) break;  // travel grows with the index
-    const double d = xyDist(kf.pose, cur.pose);
-    if (d <= best)
-    {
-      best = d;
-      anchor = i;
-      any = true;
-    }
-  }
-  if (!any) return std::nullopt;
-  ev.searched = true;
-  // One pass: the keyframes within submap_pass_m of travel of the nearest.
-  double pass_lo = -std::numeric_limits<double>::infinity(), pass_hi = max_travel;
-  if (params_.submap_pass_m > 0)
-  {
-    pass_lo = keyframes_[anchor].travel_m - params_.submap_pass_m;
-    pass_hi = std::min(max_travel, keyframes_[anchor].travel_m + params_.submap_pass_m);
-  }
-  Viewpoints views;
-  const auto submap = submapAround(cur.pose, views, pass_lo, pass_hi);
-  const double travelled = cur.travel_m - keyframes_[anchor].travel_m;
-  IcpParams p = icp_;
-  p.enabled = true;
-  p.min_goodness = params_.min_goodness;
-  p.low_overlap_min_goodness = 0;  // a loop is taken on its own goodness only
-  p.max_correction_xy_m =
-      std::clamp(params_.drift_per_m * travelled, params_.min_window_m, params_.max_window_m);
-  p.max_correction_yaw = std::clamp(params_.yaw_drift_per_m * travelled, params_.min_window_yaw,
-                                    params_.max_window_yaw);
-  // 1. From the estimate: the common case (the graph already agrees).
-  IcpResult r = alignPlanar(submap, cur.cloud, cur.pose, p, &views);
-  const bool small = r.accepted && xyDist(r.pose, cur.pose) <= params_.consistent_m &&
-                     std::abs(yawDiff(r.pose, cur.pose)) <= params_.consistent_yaw;
-  if (!(small && !r.degenerate))
-  {
-    // 2. A search over the pose uncertainty, accepted only when good,
-    //    unambiguous and not degenerate (relocalizePlanar's rules).
-    p.relocalize_radius_m = p.max_correction_xy_m;
-    p.relocalize_yaw = p.max_correction_yaw;
-    p.relocalize_min_goodness = params_.min_goodness;
-    p.relocalize_margin = params_.margin;
-    r = relocalizePlanar(submap, cur.cloud, cur.pose, p, &views);
-  }
-  ev.goodness = r.goodness;
-  if (!r.accepted || r.degenerate)
-  {
-    ev.message = "no loop: " + (r.degenerate ? std::string("degenerate match") : r.reason);
-    return std::nullopt;
-  }
-  // The old keyframe nearest to the matched pose anchors the edge.
-  double dmin = 1e9;
-  for (std::size_t i = 0; i + 1 < keyframes_.size() && keyframes_[i].travel_m <= pass_hi; i++)
-    if (const double d = xyDist(keyframes_[i].pose, r.pose);
-        d < dmin && keyframes_[i].travel_m >= pass_lo)
-    {
-      dmin = d;
-      anchor = i;
-    }
-  return r;
-}
-
 void LoopCloser::addLoopEdge(std::size_t anchor, std::size_t kf, const CPose2D& matched,
                              const IcpResult& reg)
 {
@@ -397,6 +317,7 @@ LoopEvent LoopCloser::addKeyframe(std::size_t stop, const CPose2D& pose, const C
   if (!m) return ev;
   const Keyframe& cur = keyframes_.back();
   ev.with_stop = keyframes_[anchor].stop;
+  ev.matched = m->pose;
   ev.correction_m = xyDist(m->pose, cur.pose);
   ev.correction_yaw = yawDiff(m->pose, cur.pose);
   std::ostringstream msg;
@@ -440,7 +361,7 @@ LoopEvent LoopCloser::addKeyframe(std::size_t stop, const CPose2D& pose, const C
       ev.graph_shift_mean_m = mean_shift;
       msg << "loop closed with stop " << ev.with_stop << " (correction " << ev.correction_m
           << " m, " << mrpt::RAD2DEG(ev.correction_yaw) << " deg; confirmed by stop "
-          << first_stop << "); graph moved " << max_shift << " m at most";
+          << first_stop << anchorNote(ev) << "); graph moved " << max_shift << " m at most";
       ev.message = msg.str();
       return ev;
     }
@@ -450,7 +371,8 @@ LoopEvent LoopCloser::addKeyframe(std::size_t stop, const CPose2D& pose, const C
   pending_ = Pending{k, anchor, m->pose, *m};
   ev.candidate = true;
   msg << "loop candidate with stop " << ev.with_stop << " (correction " << ev.correction_m
-      << " m, goodness " << m->goodness << "), to be confirmed";
+      << " m, goodness " << m->goodness;
+  msg << anchorNote(ev) << "), to be confirmed";
   ev.message = msg.str();
   return ev;
 }

@@ -21,7 +21,7 @@ void writeStopsCsv(const std::vector<StopReport>& reports, const std::string& pa
        "loop_correction_yaw_deg,loop_goodness,graph_shift_max_m,graph_shift_mean_m,maps_rebuilt,"
        "t_cloud_ms,t_icp_ms,t_metaview_ms,t_octomap_ms,t_loop_detect_ms,t_loop_optimize_ms,"
        "t_loop_rebuild_ms,t_total_ms,octomap_rebuilt_keyframes,octomap_rebuild_left,"
-       "t_octomap_rebuild_ms,icp_start,icp_starts_tried,icp_held,odometry_kept\n";
+       "t_octomap_rebuild_ms,icp_start,icp_starts_tried,icp_held,odometry_kept,loop_message\n";
   f << std::fixed;
   for (const auto& r : reports)
   {
@@ -63,7 +63,7 @@ void writeStopsCsv(const std::vector<StopReport>& reports, const std::string& pa
       << r.loop.t_optimize_ms << "," << r.loop.t_rebuild_ms << "," << r.t_total_ms << ","
       << r.octomap_rebuilt_keyframes << "," << r.octomap_rebuild_left << ","
       << r.t_octomap_rebuild_ms << "," << r.icp.start << "," << r.icp.starts_tried << ","
-      << r.held << "," << r.odometry_kept << "\n";
+      << r.held << "," << r.odometry_kept << "," << clean(r.loop.message) << "\n";
   }
   if (!f) throw std::runtime_error("write failed: '" + path + "'");
 }

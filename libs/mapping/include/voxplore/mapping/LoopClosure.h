@@ -38,6 +38,17 @@ struct LoopClosureParams : public mrpt::config::CLoadableOptions
   /// nearest old one (one pass, consistent with itself); 0 = every old
   /// keyframe in submap_radius_m (b17: such a submap pulled a right estimate 16 cm off) [m]
   double submap_pass_m = 0;
+  /// A match that corrects the estimate (not a consistent one) is registered
+  /// again against its anchor's own pass: the keyframes within anchor_pass_m
+  /// of travel of the old keyframe nearest the match. It must be accepted
+  /// there (goodness anchor_min_goodness) and stay within anchor_check_m and
+  /// anchor_check_yaw of the match, else there is no loop: a submap of
+  /// several passes that drifted apart can pull a match onto another pass
+  /// (b17). 0 = off [m].
+  double anchor_check_m = 0;
+  double anchor_check_yaw = mrpt::DEG2RAD(1.5);  ///< [rad] (ini: deg)
+  double anchor_pass_m = 5.0;                    ///< [m]
+  double anchor_min_goodness = 0.5;
   /// Pose uncertainty that the search covers: drift_per_m times the distance
   /// travelled since the old keyframe, clamped to [min_window_m, max_window_m].
   double drift_per_m = 0.02;
@@ -118,11 +129,15 @@ struct LoopEvent
   bool closed = false;             ///< a confirmed loop: edges added and the graph relaxed
   bool rebuilt = false;            ///< the maps were rebuilt after the relaxation
   std::size_t with_stop = 0;       ///< the old keyframe (stop index) the loop edge joins
+  mrpt::poses::CPose2D matched;    ///< the current keyframe's pose as the match put it
   double correction_m = 0;         ///< correction of the current estimate by the match [m]
   double correction_yaw = 0;       ///< ... [rad]
   double graph_shift_max_m = 0;    ///< largest keyframe displacement by the relaxation [m]
   double graph_shift_mean_m = 0;   ///< mean keyframe displacement [m]
   double goodness = 0;             ///< the match's goodness
+  /// The anchor-pass check (anchor_check_m): how far the anchor's own pass
+  /// moved the match, and its goodness there (-1: not checked).
+  double anchor_shift_m = -1, anchor_shift_yaw = 0, anchor_goodness = 0;
   double t_detect_ms = 0, t_optimize_ms = 0, t_rebuild_ms = 0;
   std::string message;             ///< what happened, for the user (empty: nothing)
 };
@@ -179,6 +194,10 @@ class LoopCloser
   };
   /// Match the newest keyframe against its old neighbours; nullopt: no match.
   std::optional<IcpResult> match(LoopEvent& ev, std::size_t& anchor);
+  /// The match `r` registered again against its anchor's own pass
+  /// (anchor_check_m): nullopt when it holds there, else why not.
+  std::optional<std::string> anchorDisagrees(LoopEvent& ev, const IcpResult& r, std::size_t anchor,
+                                             double max_travel, const IcpParams& p) const;
   void addLoopEdge(std::size_t anchor, std::size_t kf, const mrpt::poses::CPose2D& matched,
                    const IcpResult& reg);
   /// Has a keyframe that moved `moved` (odometry) since the candidate

@@ -1,0 +1,159 @@
+// Loop detection (see LoopClosure.h): the submap of old keyframes, the
+// match against it, and the anchor-pass check of a match.
+#include <voxplore/mapping/LoopClosure.h>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <sstream>
+#include <unordered_set>
+
+#include "cell_key.h"
+#include "pose_diff.h"
+
+namespace voxplore::mapping
+{
+using detail::cellKey;
+using detail::xyDist;
+using detail::yawDiff;
+using mrpt::poses::CPose2D;
+
+mrpt::maps::CSimplePointsMap LoopCloser::submapAround(const CPose2D& around, Viewpoints& viewpoints,
+                                                      double min_travel_m, double max_travel_m) const
+{
+  mrpt::maps::CSimplePointsMap out;
+  viewpoints.clear();
+  std::unordered_set<uint64_t> seen;
+  const double inv = 1.0 / params_.submap_cell_m;
+  for (const auto& kf : keyframes_)
+  {
+    if (kf.travel_m < min_travel_m || kf.travel_m > max_travel_m ||
+        xyDist(kf.pose, around) > params_.submap_radius_m)
+      continue;
+    const double c = std::cos(kf.pose.phi()), s = std::sin(kf.pose.phi());
+    const auto& xs = kf.cloud.getPointsBufferRef_x();
+    const auto& ys = kf.cloud.getPointsBufferRef_y();
+    for (std::size_t i = 0; i < xs.size(); i++)
+    {
+      const double x = kf.pose.x() + c * xs[i] - s * ys[i];
+      const double y = kf.pose.y() + s * xs[i] + c * ys[i];
+      const auto k = cellKey(static_cast<int64_t>(std::floor(x * inv)),
+                             static_cast<int64_t>(std::floor(y * inv)), 0);
+      if (seen.insert(k).second)
+      {
+        out.insertPointFast(static_cast<float>(x), static_cast<float>(y), 0.f);
+        viewpoints.emplace_back(static_cast<float>(kf.pose.x()), static_cast<float>(kf.pose.y()));
+      }
+    }
+  }
+  out.mark_as_modified();
+  return out;
+}
+
+std::optional<IcpResult> LoopCloser::match(LoopEvent& ev, std::size_t& anchor)
+{
+  const Keyframe& cur = keyframes_.back();
+  const double max_travel = cur.travel_m - params_.min_travel_m;
+  // The nearest old keyframe: is there anything old close enough to overlap?
+  double best = params_.search_radius_m;
+  bool any = false;
+  for (std::size_t i = 0; i + 1 < keyframes_.size(); i++)
+  {
+    const auto& kf = keyframes_[i];
+    if (kf.travel_m > max_travel) break;  // travel grows with the index
+    const double d = xyDist(kf.pose, cur.pose);
+    if (d <= best)
+    {
+      best = d;
+      anchor = i;
+      any = true;
+    }
+  }
+  if (!any) return std::nullopt;
+  ev.searched = true;
+  // One pass: the keyframes within submap_pass_m of travel of the nearest.
+  double pass_lo = -std::numeric_limits<double>::infinity(), pass_hi = max_travel;
+  if (params_.submap_pass_m > 0)
+  {
+    pass_lo = keyframes_[anchor].travel_m - params_.submap_pass_m;
+    pass_hi = std::min(max_travel, keyframes_[anchor].travel_m + params_.submap_pass_m);
+  }
+  Viewpoints views;
+  const auto submap = submapAround(cur.pose, views, pass_lo, pass_hi);
+  const double travelled = cur.travel_m - keyframes_[anchor].travel_m;
+  IcpParams p = icp_;
+  p.enabled = true;
+  p.min_goodness = params_.min_goodness;
+  p.low_overlap_min_goodness = 0;  // a loop is taken on its own goodness only
+  p.max_correction_xy_m =
+      std::clamp(params_.drift_per_m * travelled, params_.min_window_m, params_.max_window_m);
+  p.max_correction_yaw = std::clamp(params_.yaw_drift_per_m * travelled, params_.min_window_yaw,
+                                    params_.max_window_yaw);
+  // 1. From the estimate: the common case (the graph already agrees).
+  IcpResult r = alignPlanar(submap, cur.cloud, cur.pose, p, &views);
+  const bool small = r.accepted && xyDist(r.pose, cur.pose) <= params_.consistent_m &&
+                     std::abs(yawDiff(r.pose, cur.pose)) <= params_.consistent_yaw;
+  if (!(small && !r.degenerate))
+  {
+    // 2. A search over the pose uncertainty, accepted only when good,
+    //    unambiguous and not degenerate (relocalizePlanar's rules).
+    p.relocalize_radius_m = p.max_correction_xy_m;
+    p.relocalize_yaw = p.max_correction_yaw;
+    p.relocalize_min_goodness = params_.min_goodness;
+    p.relocalize_margin = params_.margin;
+    r = relocalizePlanar(submap, cur.cloud, cur.pose, p, &views);
+  }
+  ev.goodness = r.goodness;
+  if (!r.accepted || r.degenerate)
+  {
+    ev.message = "no loop: " + (r.degenerate ? std::string("degenerate match") : r.reason);
+    return std::nullopt;
+  }
+  // The old keyframe nearest to the matched pose anchors the edge.
+  double dmin = 1e9;
+  for (std::size_t i = 0; i + 1 < keyframes_.size() && keyframes_[i].travel_m <= pass_hi; i++)
+    if (const double d = xyDist(keyframes_[i].pose, r.pose);
+        d < dmin && keyframes_[i].travel_m >= pass_lo)
+    {
+      dmin = d;
+      anchor = i;
+    }
+  if (params_.anchor_check_m > 0 && !small)
+    if (const auto why = anchorDisagrees(ev, r, anchor, pass_hi, p))
+    {
+      ev.message = "no loop: " + *why;
+      return std::nullopt;
+    }
+  return r;
+}
+
+std::optional<std::string> LoopCloser::anchorDisagrees(LoopEvent& ev, const IcpResult& r,
+                                                       std::size_t anchor, double max_travel,
+                                                       const IcpParams& p) const
+{
+  const Keyframe& a = keyframes_[anchor];
+  Viewpoints views;
+  const auto pass = submapAround(r.pose, views, a.travel_m - params_.anchor_pass_m,
+                                 std::min(max_travel, a.travel_m + params_.anchor_pass_m));
+  IcpParams q = p;
+  q.min_goodness = params_.anchor_min_goodness;
+  const IcpResult own = alignPlanar(pass, keyframes_.back().cloud, r.pose, q, &views);
+  ev.anchor_goodness = own.goodness;
+  ev.anchor_shift_m = xyDist(own.pose, r.pose);
+  ev.anchor_shift_yaw = yawDiff(own.pose, r.pose);
+  std::ostringstream why;
+  why.precision(3);
+  if (!own.accepted)
+    why << "stop " << a.stop << "'s own pass does not hold the match (goodness " << own.goodness
+        << ", " << own.reason << ")";
+  else if (ev.anchor_shift_m > params_.anchor_check_m ||
+           std::abs(ev.anchor_shift_yaw) > params_.anchor_check_yaw)
+    why << "stop " << a.stop << "'s own pass moves the match " << ev.anchor_shift_m << " m, "
+        << mrpt::RAD2DEG(ev.anchor_shift_yaw) << " deg (goodness " << own.goodness << ")";
+  else
+    return std::nullopt;
+  return why.str();
+}
+
+
+}  // namespace voxplore::mapping

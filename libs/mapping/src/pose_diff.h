@@ -1,0 +1,22 @@
+/* voxplore — differences of planar poses (private header): the loop
+ * closer's distances and yaw differences. */
+#pragma once
+
+#include <mrpt/math/wrap2pi.h>
+#include <mrpt/poses/CPose2D.h>
+
+#include <cmath>
+
+namespace voxplore::mapping::detail
+{
+/// a's yaw minus b's, wrapped to (-pi, pi] [rad]
+inline double yawDiff(const mrpt::poses::CPose2D& a, const mrpt::poses::CPose2D& b)
+{
+  return mrpt::math::wrapToPi(a.phi() - b.phi());
+}
+/// distance between the positions of a and b [m]
+inline double xyDist(const mrpt::poses::CPose2D& a, const mrpt::poses::CPose2D& b)
+{
+  return std::hypot(a.x() - b.x(), a.y() - b.y());
+}
+}  // namespace voxplore::mapping::detail
