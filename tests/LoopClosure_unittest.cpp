@@ -624,18 +624,18 @@ std::vector<double> twoPassEdgeErrors(const LoopClosureParams& p, std::string& m
 
 TEST(LoopClosure, AMatchMustHoldAgainstItsAnchorsOwnPass)
 {
-  // Off (the default): the match follows pass B, which reaches further, and
-  // is joined to the nearest old keyframe, one of A's: its edge is 16-21 cm
-  // off (and confirmed by the next such match).
+  // Off: the match follows pass B, which reaches further, and is joined to
+  // the nearest old keyframe, one of A's: its edge is 16-21 cm off (and
+  // confirmed by the next such match).
   std::string msg_off, msg_on;
-  const auto off = twoPassEdgeErrors(LoopClosureParams{}, msg_off);
   LoopClosureParams p;
-  p.anchor_check_m = 0.04;
-  const auto on = twoPassEdgeErrors(p, msg_on);
+  p.anchor_check_m = 0;
+  const auto off = twoPassEdgeErrors(p, msg_off);
+  const auto on = twoPassEdgeErrors(LoopClosureParams{}, msg_on);  // on by default
   std::cout << "off:\n" << msg_off << "on:\n" << msg_on << std::endl;
   ASSERT_FALSE(off.empty());
   EXPECT_GT(*std::max_element(off.begin(), off.end()), 0.12);
-  // On: A's own pass moves those matches 16 cm, they are dropped; the ones
+  // On (0.05 m): A's own pass moves those matches 16 cm, they are dropped; the ones
   // joined to B's keyframes stay and close the loop.
   ASSERT_GE(on.size(), 2u);
   EXPECT_LT(*std::max_element(on.begin(), on.end()), 0.03);

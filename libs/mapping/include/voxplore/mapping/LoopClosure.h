@@ -45,7 +45,7 @@ struct LoopClosureParams : public mrpt::config::CLoadableOptions
   /// anchor_check_yaw of the match, else there is no loop: a submap of
   /// several passes that drifted apart can pull a match onto another pass
   /// (b17). 0 = off [m].
-  double anchor_check_m = 0;
+  double anchor_check_m = 0.05;
   double anchor_check_yaw = mrpt::DEG2RAD(1.5);  ///< [rad] (ini: deg)
   double anchor_pass_m = 5.0;                    ///< [m]
   double anchor_min_goodness = 0.5;
