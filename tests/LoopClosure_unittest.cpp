@@ -641,4 +641,14 @@ TEST(LoopClosure, AMatchMustHoldAgainstItsAnchorsOwnPass)
   EXPECT_LT(*std::max_element(on.begin(), on.end()), 0.03);
   EXPECT_NE(msg_on.find("own pass moves the match"), std::string::npos);
   EXPECT_NE(msg_on.find("loop closed"), std::string::npos);
+  // A pass that pairs less than anchor_min_goodness of the cloud does not
+  // judge: A's short-sighted pass pairs 0.62-0.74, so at 0.8 nothing is
+  // refused and the 16 cm edges are back.
+  std::string msg_blind;
+  p.anchor_check_m = 0.05;
+  p.anchor_min_goodness = 0.8;
+  const auto blind = twoPassEdgeErrors(p, msg_blind);
+  ASSERT_FALSE(blind.empty());
+  EXPECT_GT(*std::max_element(blind.begin(), blind.end()), 0.12);
+  EXPECT_EQ(msg_blind.find("own pass moves the match"), std::string::npos);
 }

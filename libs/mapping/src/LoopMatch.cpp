@@ -141,6 +141,10 @@ std::optional<std::string> LoopCloser::anchorDisagrees(LoopEvent& ev, const IcpR
   ev.anchor_goodness = own.goodness;
   ev.anchor_shift_m = xyDist(own.pose, r.pose);
   ev.anchor_shift_yaw = yawDiff(own.pose, r.pose);
+  // A pass that sees too little of the cloud cannot judge the match: no
+  // veto (b3 omniRob nbv: passes pairing 0.12-0.47 refused two right
+  // closures). One that sees enough must hold it where it is.
+  if (own.goodness < params_.anchor_min_goodness) return std::nullopt;
   std::ostringstream why;
   why.precision(3);
   if (!own.accepted)

@@ -40,15 +40,16 @@ struct LoopClosureParams : public mrpt::config::CLoadableOptions
   double submap_pass_m = 0;
   /// A match that corrects the estimate (not a consistent one) is registered
   /// again against its anchor's own pass: the keyframes within anchor_pass_m
-  /// of travel of the old keyframe nearest the match. It must be accepted
-  /// there (goodness anchor_min_goodness) and stay within anchor_check_m and
-  /// anchor_check_yaw of the match, else there is no loop: a submap of
-  /// several passes that drifted apart can pull a match onto another pass
-  /// (b17). 0 = off [m].
+  /// of travel of the old keyframe nearest the match. Where that pass pairs
+  /// at least anchor_min_goodness of the cloud, the match must be accepted
+  /// there and stay within anchor_check_m and anchor_check_yaw, else there
+  /// is no loop: a submap of several passes that drifted apart can pull a
+  /// match onto another pass (b19 omniRob nearest: 0.177 m). A pass that
+  /// pairs less cannot judge it. 0 = off [m].
   double anchor_check_m = 0.05;
   double anchor_check_yaw = mrpt::DEG2RAD(1.5);  ///< [rad] (ini: deg)
   double anchor_pass_m = 5.0;                    ///< [m]
-  double anchor_min_goodness = 0.5;
+  double anchor_min_goodness = 0.5;              ///< below it the pass does not judge
   /// Pose uncertainty that the search covers: drift_per_m times the distance
   /// travelled since the old keyframe, clamped to [min_window_m, max_window_m].
   double drift_per_m = 0.02;
