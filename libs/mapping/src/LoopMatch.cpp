@@ -159,5 +159,4 @@ std::optional<std::string> LoopCloser::anchorDisagrees(LoopEvent& ev, const IcpR
   return why.str();
 }
 
-
 }  // namespace voxplore::mapping
