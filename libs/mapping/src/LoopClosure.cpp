@@ -371,8 +371,7 @@ LoopEvent LoopCloser::addKeyframe(std::size_t stop, const CPose2D& pose, const C
   pending_ = Pending{k, anchor, m->pose, *m};
   ev.candidate = true;
   msg << "loop candidate with stop " << ev.with_stop << " (correction " << ev.correction_m
-      << " m, goodness " << m->goodness;
-  msg << anchorNote(ev) << "), to be confirmed";
+      << " m, goodness " << m->goodness << anchorNote(ev) << "), to be confirmed";
   ev.message = msg.str();
   return ev;
 }

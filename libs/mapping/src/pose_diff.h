@@ -1,5 +1,5 @@
 /* voxplore — differences of planar poses (private header): the loop
- * closer's distances and yaw differences. */
+ * closer's and relocalisation's distances and yaw differences. */
 #pragma once
 
 #include <mrpt/math/wrap2pi.h>

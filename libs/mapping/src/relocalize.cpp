@@ -10,6 +10,8 @@
 #include <sstream>
 #include <vector>
 
+#include "pose_diff.h"
+
 namespace voxplore::mapping
 {
 using mrpt::poses::CPose2D;
@@ -24,8 +26,7 @@ struct Seed
 
 bool distinct(const CPose2D& a, const CPose2D& b)
 {
-  return std::hypot(a.x() - b.x(), a.y() - b.y()) > 0.2 ||
-         std::abs(mrpt::math::wrapToPi(a.phi() - b.phi())) > mrpt::DEG2RAD(5.0);
+  return detail::xyDist(a, b) > 0.2 || std::abs(detail::yawDiff(a, b)) > mrpt::DEG2RAD(5.0);
 }
 
 /// Seeds on the search grid, best first, scored by the share of `pts`
