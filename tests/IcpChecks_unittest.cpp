@@ -1,10 +1,13 @@
 // SlamIcp's checks on a registration beyond its own acceptance: a correction
 // too large for its goodness is held until the next stop confirms it
 // ([icp] hold_*), and a registration that fits worse than the odometry
-// prediction gives way to it ([icp] keep_fitting_prediction).
+// prediction gives way to it ([icp] keep_fitting_prediction), and a
+// registration that puts the robot's body into mapped obstacles is refused
+// ([icp] body_*).
 #include <gtest/gtest.h>
 #include <mrpt/maps/CSimplePointsMap.h>
 #include <mrpt/math/wrap2pi.h>
+#include <octomap/OcTree.h>
 #include <voxplore/mapping/PlanarIcp.h>
 #include <voxplore/mapping/SlamIcp.h>
 #include <voxplore/sim/DepthCameraRig.h>
@@ -229,4 +232,58 @@ TEST(SlamIcp, AStopSeeingMostlyNewSpaceKeepsItsOdometryOnlyAfterAHeldStop)
         EXPECT_TRUE(out[2].flagged) << out[2].icp.reason;
       }
     }
+}
+
+TEST(SlamIcp, ARegistrationThatPutsTheBodyIntoTheMappedObstaclesIsRefused)
+{
+  // Stop 1 is registered where the robot truly stands, but the OctoMap
+  // holds a post (occupied voxels from 0.10 to 0.60 m, planted before the
+  // stop) 0.17 m ahead of that pose: inside the compact robot's body
+  // rectangle (0.50 x 0.36 m shrunk by 0.05: +-0.20 along, +-0.13 across)
+  // when the robot faces it, outside when it stands turned 90 deg. Inside,
+  // the registration, the relocalisation and the prediction are refused and
+  // the stop stays out of the maps; outside, or with the check off (no
+  // body), it is registered.
+  RoomFixture f;
+  const CPose2D s = f.world.start;  // (2, 4, 0) in the DLR room
+  struct Case
+  {
+    double yaw, body_length_m;
+    bool refused;
+  };
+  for (const Case& c : {Case{0.0, 0.50, true}, Case{M_PI / 2, 0.50, false}, Case{0.0, 0.0, false}})
+  {
+    SCOPED_TRACE("yaw " + std::to_string(c.yaw) + ", body_length_m " + std::to_string(c.body_length_m));
+    mapping::SlamIcpParams p;
+    p.icp.body_length_m = c.body_length_m;
+    p.icp.body_width_m = c.body_length_m > 0 ? 0.36 : 0.0;
+    p.loop_closure.enabled = false;
+    const std::vector<CPose2D> truth = {s, s + CPose2D(0.3, 0.2, c.yaw)};
+    const CPose2D at = truth[1] - truth[0];  // stop 1 in the map frame
+    const CPose2D post(at.x() + 0.17, at.y(), 0.0);  // map frame: ahead at yaw 0, beside at 90 deg
+    mapping::SlamIcp slam(p);
+    sim::DepthCameraRig rig{sim::CameraRigParams{}};
+    std::mt19937_64 rng(5);
+    for (std::size_t i = 0; i < truth.size(); i++)
+    {
+      if (i == 1)
+        for (double z = 0.125; z < 0.6; z += 0.05)
+          for (int k = 0; k < 10; k++)
+            slam.octomap().mutableTree().updateNode(
+                octomap::point3d(float(post.x()), float(post.y()), float(z)), true);
+      mrpt::obs::CSensoryFrame sf;
+      for (const auto& o : rig.scan(f.caster, CPose3D(truth[i]), mrpt::Clock::fromDouble(double(i)), rng, true))
+        sf.insert(o);
+      slam.processStop(sf, truth[i] - truth[0], mrpt::Clock::fromDouble(double(i)));
+    }
+    const auto& r = slam.reports().at(1);
+    EXPECT_EQ(r.flagged, c.refused) << r.icp.reason;
+    EXPECT_EQ(r.integrated, !c.refused);
+    EXPECT_EQ(r.icp.reason.find("occupied voxels > body_max_voxels") != std::string::npos, c.refused)
+        << r.icp.reason;
+    if (!c.refused)
+    {
+      EXPECT_LT(distanceXy(r.pose, at), 0.02) << r.icp.reason;
+    }
+  }
 }

@@ -70,6 +70,10 @@ ExploreConfig loadConfig(const ExploreOptions& opts)
   }
   ExploreConfig c;
   c.sim = sim::SimConfig::load(*cfg, opts.robot);
+  // The registration's body check uses the robot's footprint unless
+  // [icp] body_length_m / body_width_m are set.
+  c.slam.icp.body_length_m = c.sim.robot.length_m;
+  c.slam.icp.body_width_m = c.sim.robot.width_m;
   c.slam.load(*cfg);
   // r_coll follows the robot footprint unless [collision] r_coll_m is set.
   c.planner.setFootprint(c.sim.robot.length_m, c.sim.robot.width_m);

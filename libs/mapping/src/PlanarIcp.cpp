@@ -67,6 +67,13 @@ void IcpParams::loadFromConfigFile(const mrpt::config::CConfigFileBase& c, const
   MRPT_LOAD_CONFIG_VAR_DEGREES(relocalize_yaw, c, s);
   MRPT_LOAD_CONFIG_VAR(relocalize_min_goodness, double, c, s);
   MRPT_LOAD_CONFIG_VAR(relocalize_margin, double, c, s);
+  MRPT_LOAD_CONFIG_VAR(body_length_m, double, c, s);
+  MRPT_LOAD_CONFIG_VAR(body_width_m, double, c, s);
+  MRPT_LOAD_CONFIG_VAR(body_margin_m, double, c, s);
+  MRPT_LOAD_CONFIG_VAR(body_z_min_m, double, c, s);
+  MRPT_LOAD_CONFIG_VAR(body_z_max_m, double, c, s);
+  MRPT_LOAD_CONFIG_VAR(body_max_voxels, int, c, s);
+  MRPT_LOAD_CONFIG_VAR(body_relocalize_min_goodness, double, c, s);
   using common::requireValid;
   requireValid(d_max_m > 0, c, s, "d_max_m", "must be positive");
   requireValid(d_max_final_m > 0 && d_max_final_m <= d_max_m, c, s, "d_max_final_m",
@@ -120,6 +127,13 @@ void IcpParams::loadFromConfigFile(const mrpt::config::CConfigFileBase& c, const
                "relocalize_min_goodness", "must be in (0, 1]");
   requireValid(relocalize_margin >= 0 && relocalize_margin < 1, c, s, "relocalize_margin",
                "must be in [0, 1)");
+  requireValid(body_length_m >= 0 && body_width_m >= 0, c, s, "body_length_m",
+               "body_length_m and body_width_m must be >= 0 (0 = no body check)");
+  requireValid(body_margin_m >= 0, c, s, "body_margin_m", "must be >= 0");
+  requireValid(body_z_max_m > body_z_min_m, c, s, "body_z_max_m", "must be above body_z_min_m");
+  requireValid(body_max_voxels >= 0, c, s, "body_max_voxels", "must be >= 0");
+  requireValid(body_relocalize_min_goodness > 0 && body_relocalize_min_goodness <= 1, c, s,
+               "body_relocalize_min_goodness", "must be in (0, 1]");
 }
 
 void IcpParams::saveToConfigFile(mrpt::config::CConfigFileBase& c, const std::string& s) const
@@ -171,6 +185,13 @@ void IcpParams::saveToConfigFile(mrpt::config::CConfigFileBase& c, const std::st
   MRPT_SAVE_CONFIG_VAR_DEGREES(relocalize_yaw, c, s);
   MRPT_SAVE_CONFIG_VAR(relocalize_min_goodness, c, s);
   MRPT_SAVE_CONFIG_VAR(relocalize_margin, c, s);
+  MRPT_SAVE_CONFIG_VAR(body_length_m, c, s);
+  MRPT_SAVE_CONFIG_VAR(body_width_m, c, s);
+  MRPT_SAVE_CONFIG_VAR(body_margin_m, c, s);
+  MRPT_SAVE_CONFIG_VAR(body_z_min_m, c, s);
+  MRPT_SAVE_CONFIG_VAR(body_z_max_m, c, s);
+  MRPT_SAVE_CONFIG_VAR(body_max_voxels, c, s);
+  MRPT_SAVE_CONFIG_VAR(body_relocalize_min_goodness, c, s);
 }
 
 

@@ -65,7 +65,8 @@ std::vector<Seed> scoreSeeds(const mrpt::maps::CPointsMap& ref,
 
 IcpResult relocalizePlanar(
     const mrpt::maps::CPointsMap& reference_map, const mrpt::maps::CPointsMap& cloud_robot,
-    const CPose2D& predicted, const IcpParams& p, const Viewpoints* reference_viewpoints)
+    const CPose2D& predicted, const IcpParams& p, const Viewpoints* reference_viewpoints,
+    const std::function<bool(const CPose2D&)>& admissible)
 {
   IcpResult none;
   none.pose = none.icp_pose = predicted;
@@ -93,6 +94,7 @@ IcpResult relocalizePlanar(
   wide.low_overlap_min_goodness = 0;  // relocalisation by its own goodness only
   std::vector<IcpResult> refined;
   std::vector<CPose2D> tried;
+  std::size_t inadmissible = 0;
   for (const auto& seed : seeds)
   {
     if (tried.size() >= 6) break;
@@ -101,16 +103,20 @@ IcpResult relocalizePlanar(
     tried.push_back(seed.pose);
     auto r = alignPlanar(reference_map, cloud_robot, seed.pose, wide, reference_viewpoints);
     r.icp_pose = r.pose = r.accepted ? r.pose : r.icp_pose;
-    refined.push_back(r);
+    if (admissible && !admissible(r.pose))
+      ++inadmissible;
+    else
+      refined.push_back(r);
   }
   std::sort(refined.begin(), refined.end(),
             [](const IcpResult& a, const IcpResult& b) { return a.goodness > b.goodness; });
   std::ostringstream why;
   if (refined.empty())
-    why << "relocalisation failed: no seed";
+    why << "relocalisation failed: no seed" << (inadmissible > 0 ? " (all inadmissible)" : "");
   else if (!refined[0].accepted)
-    why << "relocalisation failed: best match (goodness " << refined[0].goodness
-        << ") rejected: " << refined[0].reason;
+    why << "relocalisation failed: best match (goodness " << refined[0].goodness << " at "
+        << refined[0].icp_pose.x() << " " << refined[0].icp_pose.y() << " "
+        << mrpt::RAD2DEG(refined[0].icp_pose.phi()) << " deg) rejected: " << refined[0].reason;
   else if (refined[0].degenerate)
     why << "relocalisation failed: degenerate scene";
   else

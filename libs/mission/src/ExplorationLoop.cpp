@@ -210,6 +210,7 @@ void ExplorationLoop::loop()
     {
       status_.termination_reason = exploration::toString(plan.done);
       noteCutOff(cut_off_m2);
+      noteShutIn();
       return;
     }
     if (stagnated()) return;

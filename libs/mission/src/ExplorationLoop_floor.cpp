@@ -70,6 +70,21 @@ void ExplorationLoop::noteCutOff(double cut_off_m2)
                          cut_off_m2, status_.known_floor_m2));
 }
 
+void ExplorationLoop::noteShutIn()
+{
+  // Nothing left to plan on a known floor that fell by half or more in one
+  // step is no explored building: the robot's pose left the map's free space
+  // (b1 compact nbv: a registration through a wall, 530 -> 0.07 m^2, ended
+  // "no frontier" at coverage 0) or the map closed round it.
+  if (!floorCollapsed(known_floor_)) return;
+  const double before = *std::max_element(known_floor_.begin(), known_floor_.end() - 1);
+  message(mrpt::format("the map shut the robot in: the free floor known in G fell from %.0f to %.1f "
+                       "m^2 and no frontier is reachable (%s): the pose estimate left the map's free "
+                       "space, or the map closed round the robot",
+                       before, known_floor_.back(), status_.termination_reason.c_str()));
+  status_.termination_reason = "the map shut the robot in";
+}
+
 void ExplorationLoop::noteFrontiers(const exploration::PlanResult& plan)
 {
   status_.frontiers_left.clear();

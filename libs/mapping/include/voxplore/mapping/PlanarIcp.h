@@ -8,6 +8,7 @@
 
 #include <Eigen/Core>
 #include <string>
+#include <functional>
 #include <vector>
 
 namespace voxplore::mapping
@@ -176,6 +177,23 @@ struct IcpParams : public mrpt::config::CLoadableOptions
   double relocalize_min_goodness = 0.85;  ///< accept a relocalisation only with this goodness
   /// ... and only when no other, distinct pose scores within this goodness of it (ambiguity)
   double relocalize_margin = 0.15;
+  /// SlamIcp's body check: a registration (ICP, relocalisation, a confirmed
+  /// or kept prediction) that puts more than body_max_voxels occupied voxels
+  /// of the OctoMap inside the robot's body rectangle (body_length_m x
+  /// body_width_m, the robot's footprint, shrunk by body_margin_m on each
+  /// side, between body_z_min_m and body_z_max_m) is refused: the robot
+  /// cannot stand in a mapped wall. 0 x 0 = off (voxplore-explore sets the
+  /// robot's footprint unless the ini does).
+  double body_length_m = 0;
+  double body_width_m = 0;
+  double body_margin_m = 0.05;     ///< [m]
+  double body_z_min_m = 0.10;      ///< [m]
+  double body_z_max_m = 0.60;      ///< [m]
+  int body_max_voxels = 1;
+  /// After a registration refused for the body (the scene offered a wrong
+  /// minimum near the prediction) relocalisation accepts from this goodness
+  /// (instead of relocalize_min_goodness), among poses whose body is clear.
+  double body_relocalize_min_goodness = 0.75;
 
   void loadFromConfigFile(const mrpt::config::CConfigFileBase& c, const std::string& s) override;
   void saveToConfigFile(mrpt::config::CConfigFileBase& c, const std::string& s) const override;
@@ -287,12 +305,15 @@ double odometryStdXy(const mrpt::poses::CPose2D& step, const IcpParams& params);
 ///        (correction limits widened to the search window, min_goodness =
 ///        relocalize_min_goodness) and accepts the best refined pose only
 ///        when it is not degenerate and no distinct pose (> 0.2 m or 5 deg
-///        away) comes within relocalize_margin of its goodness.
+///        away) comes within relocalize_margin of its goodness. A refined
+///        pose that `admissible` (when given) refuses is no candidate at all
+///        (SlamIcp: the robot's body would stand in a mapped obstacle).
 /// @return the accepted result (reason "relocalized: ..."), or a rejected
 ///         one keeping `predicted` with the reason
 IcpResult relocalizePlanar(
     const mrpt::maps::CPointsMap& reference_map, const mrpt::maps::CPointsMap& cloud_robot,
     const mrpt::poses::CPose2D& predicted, const IcpParams& params,
-    const Viewpoints* reference_viewpoints = nullptr);
+    const Viewpoints* reference_viewpoints = nullptr,
+    const std::function<bool(const mrpt::poses::CPose2D&)>& admissible = {});
 
 }  // namespace voxplore::mapping

@@ -162,6 +162,13 @@ class SlamIcp
   /// carrying that correction; true when it agrees (rep.icp replaced).
   struct LargeCorrection;
   bool confirmLargeCorrection(StopReport& rep, const RobotCloud& cloud, const LargeCorrection& lc);
+  /// Occupied voxels of the OctoMap inside the robot's body at `pose` ([icp] body_*).
+  std::size_t occupiedUnderBody(const mrpt::poses::CPose2D& pose) const;
+  /// More than [icp] body_max_voxels of them.
+  bool bodyBlocked(const mrpt::poses::CPose2D& pose) const;
+  /// An accepted `r` whose body holds more than body_max_voxels occupied
+  /// voxels is refused (pose back to `predicted`, the reason says why); true then.
+  bool refuseIfBodyBlocked(IcpResult& r, const mrpt::poses::CPose2D& predicted) const;
   /// Turns an accepted registration into a held one ([icp] hold_sigmas):
   /// std_since_m is the prediction's odometry std since the last registered stop.
   void holdIfUnsure(StopReport& rep, double std_since_m);
