@@ -287,3 +287,34 @@ TEST(SlamIcp, ARegistrationThatPutsTheBodyIntoTheMappedObstaclesIsRefused)
     }
   }
 }
+
+TEST(PlanarIcp, RelocalisationTakesOnlyAdmissiblePoses)
+{
+  // A stop 0.4 m and 10 deg off its prediction in the DLR room is
+  // relocalised to its true pose. When the caller rules that pose out (as
+  // SlamIcp does for a pose whose body stands in a mapped obstacle), it is
+  // no candidate: relocalisation takes no pose near it.
+  RoomFixture f;
+  const CPose2D s = f.world.start;  // (2, 4, 0) in the DLR room
+  const CPose2D truth = s + CPose2D(0.5, 0.3, 0.3);
+  sim::DepthCameraRig rig{sim::CameraRigParams{}};
+  std::mt19937_64 rng(5);
+  const auto cloudOf = [&](const CPose2D& at)
+  {
+    return mapping::buildRobotCloud(rig.scan(f.caster, CPose3D(at), mrpt::Clock::fromDouble(0), rng, true),
+                                    mapping::CloudParams{});
+  };
+  mapping::Metaview m;
+  for (const CPose2D& at : {s, s + CPose2D(1.0, 0.0, M_PI / 2), s + CPose2D(0.0, 1.0, M_PI)})
+    m.insert(cloudOf(at).points, at);
+  const auto cloud = cloudOf(truth);
+  const CPose2D predicted = truth + CPose2D(0.4, 0.0, mrpt::DEG2RAD(10.0));
+  const mapping::IcpParams p;
+  const auto free = mapping::relocalizePlanar(m.footprint(), cloud.points, predicted, p, &m.footprintViewpoints());
+  ASSERT_TRUE(free.accepted) << free.reason;
+  EXPECT_LT(distanceXy(free.pose, truth), 0.03) << free.reason;
+  const auto ruled_out = mapping::relocalizePlanar(
+      m.footprint(), cloud.points, predicted, p, &m.footprintViewpoints(),
+      [&](const CPose2D& q) { return distanceXy(q, truth) > 0.2; });
+  EXPECT_FALSE(ruled_out.accepted && distanceXy(ruled_out.pose, truth) <= 0.2) << ruled_out.reason;
+}
