@@ -322,7 +322,7 @@ LoopEvent LoopCloser::addKeyframe(std::size_t stop, const CPose2D& pose, const C
   ev.correction_yaw = yawDiff(m->pose, cur.pose);
   std::ostringstream msg;
   msg.precision(3);
-  if (ev.correction_m <= params_.consistent_m && std::abs(ev.correction_yaw) <= params_.consistent_yaw)
+  if (consistent(m->pose, cur.pose))
   {
     addLoopEdge(anchor, k, m->pose, *m);
     ev.consistent = true;

@@ -91,9 +91,7 @@ std::optional<IcpResult> LoopCloser::match(LoopEvent& ev, std::size_t& anchor)
                                     params_.max_window_yaw);
   // 1. From the estimate: the common case (the graph already agrees).
   IcpResult r = alignPlanar(submap, cur.cloud, cur.pose, p, &views);
-  const bool small = r.accepted && xyDist(r.pose, cur.pose) <= params_.consistent_m &&
-                     std::abs(yawDiff(r.pose, cur.pose)) <= params_.consistent_yaw;
-  if (!(small && !r.degenerate))
+  if (!(r.accepted && consistent(r.pose, cur.pose) && !r.degenerate))
   {
     // 2. A search over the pose uncertainty, accepted only when good,
     //    unambiguous and not degenerate (relocalizePlanar's rules).
@@ -118,13 +116,21 @@ std::optional<IcpResult> LoopCloser::match(LoopEvent& ev, std::size_t& anchor)
       dmin = d;
       anchor = i;
     }
-  if (params_.anchor_check_m > 0 && !small)
+  // A correcting match (judged on the match taken, which relocalisation may
+  // have replaced) must hold against its anchor's own pass.
+  if (params_.anchor_check_m > 0 && !consistent(r.pose, cur.pose))
     if (const auto why = anchorDisagrees(ev, r, anchor, pass_hi, p))
     {
       ev.message = "no loop: " + *why;
       return std::nullopt;
     }
   return r;
+}
+
+bool LoopCloser::consistent(const CPose2D& matched, const CPose2D& estimate) const
+{
+  return xyDist(matched, estimate) <= params_.consistent_m &&
+         std::abs(yawDiff(matched, estimate)) <= params_.consistent_yaw;
 }
 
 std::optional<std::string> LoopCloser::anchorDisagrees(LoopEvent& ev, const IcpResult& r,

@@ -193,6 +193,9 @@ class LoopCloser
     mrpt::poses::CPose2D matched;    ///< the keyframe's pose as the match put it
     IcpResult reg;
   };
+  /// A match at `matched` agrees with the estimate `estimate` (within
+  /// consistent_m and consistent_yaw): it corrects nothing.
+  bool consistent(const mrpt::poses::CPose2D& matched, const mrpt::poses::CPose2D& estimate) const;
   /// Match the newest keyframe against its old neighbours; nullopt: no match.
   std::optional<IcpResult> match(LoopEvent& ev, std::size_t& anchor);
   /// The match `r` registered again against its anchor's own pass
