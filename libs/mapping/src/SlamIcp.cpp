@@ -6,9 +6,7 @@
 #include <voxplore/common/config.h>
 #include <voxplore/mapping/SlamIcp.h>
 
-#include "body_check.h"
 
-#include <algorithm>
 #include <cmath>
 #include <iterator>
 #include <sstream>
@@ -142,24 +140,7 @@ void SlamIcp::registerStop(StopReport& rep, const RobotCloud& cloud, bool has_de
     // registration converged: it waits for the next stop instead.
     if (!confirmed && !rep.icp.accepted && !rep.held && params_.icp.enabled && params_.icp.relocalize &&
         rep.icp.iterations > 0)
-    {
-      const std::string first_reason = rep.icp.reason;
-      // Refused for the body, the scene offered a wrong minimum near the
-      // prediction: the relocalisation's bar is lower, among poses whose
-      // body is clear (b1 compact nbv: a 133 deg turn with odometry 0.5 m
-      // off registered through a wall; the true pose paired 0.83).
-      IcpParams reloc = params_.icp;
-      if (body_refused)
-        reloc.relocalize_min_goodness =
-            std::min(reloc.relocalize_min_goodness, reloc.body_relocalize_min_goodness);
-      rep.icp = relocalizePlanar(metaview_.footprint(), cloud.points, rep.predicted, reloc,
-                                 &metaview_.footprintViewpoints(), [this](const CPose2D& q) {
-                                   return !bodyBlocked(q);
-                                 });
-      refuseIfBodyBlocked(rep.icp, rep.predicted);
-      rep.icp.reason = first_reason + "; " + rep.icp.reason;
-      rep.relocalized = rep.icp.accepted;
-    }
+      relocalize(rep, cloud, body_refused);
     if (!rep.icp.accepted && params_.icp.keep_fitting_prediction && first_try.iterations > 0 &&
         !confirmed)
       keepFittingPrediction(rep, cloud, first_try, std_since_m);
@@ -180,33 +161,6 @@ void SlamIcp::registerStop(StopReport& rep, const RobotCloud& cloud, bool has_de
     rep.pose = rep.predicted;
     rep.flagged = true;
   }
-}
-
-std::size_t SlamIcp::occupiedUnderBody(const CPose2D& pose) const
-{
-  return detail::occupiedUnderBody(octomap_.tree(), pose, params_.icp);
-}
-
-bool SlamIcp::bodyBlocked(const CPose2D& pose) const
-{
-  return occupiedUnderBody(pose) > static_cast<std::size_t>(params_.icp.body_max_voxels);
-}
-
-bool SlamIcp::refuseIfBodyBlocked(IcpResult& r, const CPose2D& predicted) const
-{
-  if (!r.accepted) return false;
-  const std::size_t n = occupiedUnderBody(r.pose);
-  if (n <= static_cast<std::size_t>(params_.icp.body_max_voxels)) return false;  // bodyBlocked()
-  std::ostringstream why;
-  why << "refused: the body at " << r.pose.x() << " " << r.pose.y() << " "
-      << mrpt::RAD2DEG(r.pose.phi()) << " deg holds " << n
-      << " occupied voxels > body_max_voxels = " << params_.icp.body_max_voxels;
-  if (!r.reason.empty()) why << "; " << r.reason;
-  r.reason = why.str();
-  r.accepted = false;
-  r.icp_pose = r.pose;
-  r.pose = predicted;
-  return true;
 }
 
 void SlamIcp::holdIfUnsure(StopReport& rep, double std_since_m)

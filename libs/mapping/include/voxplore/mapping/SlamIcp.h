@@ -169,6 +169,10 @@ class SlamIcp
   /// An accepted `r` whose body holds more than body_max_voxels occupied
   /// voxels is refused (pose back to `predicted`, the reason says why); true then.
   bool refuseIfBodyBlocked(IcpResult& r, const mrpt::poses::CPose2D& predicted) const;
+  /// After a rejected registration: relocalizePlanar() round the prediction
+  /// among poses whose body is clear, from body_relocalize_min_goodness when
+  /// the registration was refused for the body; replaces rep.icp.
+  void relocalize(StopReport& rep, const RobotCloud& cloud, bool body_refused);
   /// Turns an accepted registration into a held one ([icp] hold_sigmas):
   /// std_since_m is the prediction's odometry std since the last registered stop.
   void holdIfUnsure(StopReport& rep, double std_since_m);
