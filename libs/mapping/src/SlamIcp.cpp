@@ -6,7 +6,6 @@
 #include <voxplore/common/config.h>
 #include <voxplore/mapping/SlamIcp.h>
 
-
 #include <cmath>
 #include <iterator>
 #include <sstream>

@@ -89,7 +89,6 @@ void SlamIcp::relocalize(StopReport& rep, const RobotCloud& cloud, bool body_ref
   rep.icp = relocalizePlanar(metaview_.footprint(), cloud.points, rep.predicted, reloc,
                              &metaview_.footprintViewpoints(),
                              [this](const CPose2D& q) { return !bodyBlocked(q); });
-  refuseIfBodyBlocked(rep.icp, rep.predicted);
   rep.icp.reason = first_reason + "; " + rep.icp.reason;
   rep.relocalized = rep.icp.accepted;
 }

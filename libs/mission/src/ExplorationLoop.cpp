@@ -210,7 +210,9 @@ void ExplorationLoop::loop()
     {
       status_.termination_reason = exploration::toString(plan.done);
       noteCutOff(cut_off_m2);
-      noteShutIn();
+      endShutIn(status_.termination_reason +
+                "; no frontier is reachable: the pose estimate left the map's free space, or the map "
+                "closed round the robot");
       return;
     }
     if (stagnated()) return;

@@ -70,19 +70,19 @@ void ExplorationLoop::noteCutOff(double cut_off_m2)
                          cut_off_m2, status_.known_floor_m2));
 }
 
-void ExplorationLoop::noteShutIn()
+bool ExplorationLoop::endShutIn(const std::string& detail)
 {
-  // Nothing left to plan on a known floor that fell by half or more in one
-  // step is no explored building: the robot's pose left the map's free space
-  // (b1 compact nbv: a registration through a wall, 530 -> 0.07 m^2, ended
-  // "no frontier" at coverage 0) or the map closed round it.
-  if (!floorCollapsed(known_floor_)) return;
-  const double before = *std::max_element(known_floor_.begin(), known_floor_.end() - 1);
-  message(mrpt::format("the map shut the robot in: the free floor known in G fell from %.0f to %.1f "
-                       "m^2 and no frontier is reachable (%s): the pose estimate left the map's free "
-                       "space, or the map closed round the robot",
-                       before, known_floor_.back(), status_.termination_reason.c_str()));
+  // A known floor that fell by half or more is no explored building: the
+  // robot's pose left the map's free space or the map closed round it, by
+  // drift (willowgarage compact nbv: 1,057 -> 72 m^2 in one step at 1.1 m of
+  // drift, coverage 0.03; issue 11) or by a registration through a wall (b1
+  // compact nbv: 530 -> 0.07 m^2, ended "no frontier" at coverage 0).
+  if (!floorCollapsed(known_floor_)) return false;
   status_.termination_reason = "the map shut the robot in";
+  message(mrpt::format("the map shut the robot in: the free floor known in G fell from %.0f to %.1f m^2: %s",
+                       *std::max_element(known_floor_.begin(), known_floor_.end() - 1),
+                       known_floor_.back(), detail.c_str()));
+  return true;
 }
 
 void ExplorationLoop::noteFrontiers(const exploration::PlanResult& plan)
@@ -154,19 +154,10 @@ bool ExplorationLoop::stagnated()
   for (const auto& f : status_.frontiers_left) left_m += f.second;
   if (!why.empty())
   {
-    // A negative gain from a known floor that fell by half or more is no
-    // explored building: the map shut the robot in (willowgarage compact nbv:
-    // 1,057 -> 72 m^2 in one step at 1.1 m of drift, coverage 0.03; issue 11).
-    if (floorCollapsed(known_floor_))
-    {
-      status_.termination_reason = "the map shut the robot in";
-      message(mrpt::format(
-          "the map shut the robot in: the free floor known in G fell from %.0f to %.0f m^2 (%s): "
-          "a wall drawn across the way the robot came, by pose drift; %zu frontier(s) left, %.1f m",
-          *std::max_element(known_floor_.begin(), known_floor_.end() - 1), known_floor_.back(),
-          why.c_str(), status_.frontiers_left.size(), left_m));
+    if (endShutIn(mrpt::format("%s; a wall drawn across the way the robot came, by pose drift; "
+                               "%zu frontier(s) left, %.1f m",
+                               why.c_str(), status_.frontiers_left.size(), left_m)))
       return true;
-    }
     status_.termination_reason = "stagnation";
     message(mrpt::format("stagnation: %s; %zu frontier(s) left, %.1f m", why.c_str(),
                          status_.frontiers_left.size(), left_m));

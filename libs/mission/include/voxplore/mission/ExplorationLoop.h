@@ -314,9 +314,10 @@ class ExplorationLoop
   /// of known floor cut off, by the relaxed one when that finds a way.
   void replanShutIn(exploration::PlanResult& plan, double cut_off_m2, std::size_t step,
                     const std::vector<Eigen::Vector2d>& approach);
-  /// At an end with nothing to plan: "the map shut the robot in" when the
-  /// known floor fell by half or more (floorCollapsed), with a message.
-  void noteShutIn();
+  /// When the known floor fell by half or more (floorCollapsed): ends the
+  /// run "the map shut the robot in" with a message ending in `detail`
+  /// (stagnation, or an end with nothing to plan); true then.
+  bool endShutIn(const std::string& detail);
   /// The plan's frontiers and known floor into status_ (and known_floor_).
   void noteFrontiers(const exploration::PlanResult& plan);
   /// The free floor found over the last stagnation_steps planning steps
