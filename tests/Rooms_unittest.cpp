@@ -227,3 +227,41 @@ TEST(Planner, FinishRoomTakesTheRobotsRoomsShortFrontierBeforeALongOneElsewhere)
   ASSERT_TRUE(nearest.ok()) << nearest.message;
   EXPECT_NEAR(nearest.frontier->center.x(), 9.0, 0.2);
 }
+
+TEST(Planner, WithoutFrontierTiersNextBestViewTakesTheNearShortFrontierFirst)
+{
+  const auto V = roomAndCorridor();
+  const CPose2D robot(-1.0, 0.0, 0.0);
+  PlannerParams p = compact();
+  ASSERT_TRUE(p.frontier_tiers);  // the thesis' tiers by default
+  const auto tiers = plan(V, robot, p);
+  ASSERT_TRUE(tiers.ok()) << tiers.message;
+  ASSERT_EQ(tiers.frontiers->frontiers.size(), 2u);
+  EXPECT_NEAR(tiers.frontier->center.x(), 9.0, 0.2);  // the long one, 10 m away, in B
+  p.frontier_tiers = false;
+  const auto one = plan(V, robot, p);
+  ASSERT_TRUE(one.ok()) << one.message;
+  EXPECT_NEAR(one.frontier->center.x(), -3.0, 0.2);  // the short one, 2 m away, in A
+  // So does the tour, now over both.
+  p.frontier_order = FrontierOrder::Tour;
+  const auto tour = plan(V, robot, p);
+  ASSERT_TRUE(tour.ok()) << tour.message;
+  EXPECT_NEAR(tour.frontier->center.x(), -3.0, 0.2);
+  EXPECT_EQ(tour.tour.order.size(), 2u);
+  // The nearest baseline keeps the thesis' tiers whatever the key says.
+  p.frontier_order = FrontierOrder::Nearest;
+  p.strategy = Strategy::NearestFrontier;
+  const auto nearest = plan(V, robot, p);
+  ASSERT_TRUE(nearest.ok()) << nearest.message;
+  EXPECT_NEAR(nearest.frontier->center.x(), 9.0, 0.2);
+  // The key round-trips and a word that is no boolean names it.
+  mrpt::config::CConfigFileMemory ini;
+  PlannerParams q = compact();
+  q.frontier_tiers = false;
+  q.save(ini);
+  PlannerParams back;
+  back.load(ini);
+  EXPECT_FALSE(back.frontier_tiers);
+  ini.write("planner", "frontier_tiers", "sometimes");
+  EXPECT_THROW(back.load(ini), std::exception);
+}

@@ -292,6 +292,8 @@ PlanResult plan(
   std::vector<float> footprint_cost;  // footprintCostFromStart, when first needed
   // frontier_order = tour: each threshold tier's frontiers ranked by an open
   // tour from the robot (the tier of th_f1, then the rest above th_f2).
+  // The frontier order's tiers (frontier_tiers).
+  const SamplingParams order = p.frontierOrderInForce();
   std::vector<double> rank;
   std::vector<FrontierTour> tours;
   const bool by_tour = p.strategy == Strategy::NextBestView &&
@@ -304,11 +306,11 @@ PlanResult plan(
     for (std::size_t i = 0; i < fm->frontiers.size(); ++i)
     {
       const Frontier& f = fm->frontiers[i];
-      const double length = p.sampling.judgedLength(f);
-      if (length <= p.sampling.th_f2_m || p.sampling.enclosed(f) ||
-          nearAny(f.center, blacklist, p.sampling.blacklist_radius_m))
+      const double length = order.judgedLength(f);
+      if (length <= order.th_f2_m || order.enclosed(f) ||
+          nearAny(f.center, blacklist, order.blacklist_radius_m))
         continue;
-      (length > p.sampling.th_f1_m ? tier1 : tier2).push_back(i);
+      (length > order.th_f1_m ? tier1 : tier2).push_back(i);
     }
     for (const auto* tier : {&tier1, &tier2})
     {
@@ -320,7 +322,7 @@ PlanResult plan(
   }
   while (r.done == DoneReason::None)
   {
-    const auto fi = chooseFrontier(fm->frontiers, p.sampling, blacklist, r.skipped_frontiers,
+    const auto fi = chooseFrontier(fm->frontiers, order, blacklist, r.skipped_frontiers,
                                    by_tour ? &rank : nullptr, in_room.empty() ? nullptr : &in_room);
     if (!fi)
     {
@@ -365,7 +367,7 @@ PlanResult plan(
       skip.push_back(*fi);
       while (batch.size() < static_cast<std::size_t>(p.sampling.frontiers_rated))
       {
-        const auto fj = chooseFrontier(fm->frontiers, p.sampling, blacklist, skip,
+        const auto fj = chooseFrontier(fm->frontiers, order, blacklist, skip,
                                        by_tour ? &rank : nullptr, in_room.empty() ? nullptr : &in_room);
         if (!fj) break;
         skip.push_back(*fj);
@@ -382,7 +384,7 @@ PlanResult plan(
     if (!candidates.empty() && pathToBest(robot, p, std::move(candidates), r, footprint_cost))
     {
       if (by_tour)
-        r.tour = tours[p.sampling.judgedLength(*r.frontier) > p.sampling.th_f1_m ? 0 : 1];
+        r.tour = tours[order.judgedLength(*r.frontier) > order.th_f1_m ? 0 : 1];
       std::ostringstream os;
       os << "frontier " << r.frontier_index << " (" << r.frontier->size_m << " m";
       if (p.sampling.judge_opening) os << ", opening " << r.frontier->opening_m << " m";

@@ -4,6 +4,7 @@
 #include <voxplore/exploration/Planner.h>
 
 #include <cmath>
+#include <optional>
 #include <set>
 #include <string>
 
@@ -22,7 +23,8 @@ void PlannerParams::load(const mrpt::config::CConfigFileBase& cfg)
   rating.loadFromConfigFile(cfg, "scan_rating");
   common::loadChecked(path, cfg, "path");
   common::assertKnownKeys(cfg, "planner",
-                          std::set<std::string>{"strategy", "seed", "frontier_order", "tour_cell_m"});
+                          std::set<std::string>{"strategy", "seed", "frontier_order", "tour_cell_m",
+                                                "frontier_tiers"});
   const std::string s = cfg.read_string("planner", "strategy", "nbv");
   common::requireValid(s == "nbv" || s == "nearest", cfg, "planner", "strategy", "expected nbv or nearest");
   strategy = s == "nbv" ? Strategy::NextBestView : Strategy::NearestFrontier;
@@ -34,6 +36,17 @@ void PlannerParams::load(const mrpt::config::CConfigFileBase& cfg)
   tour_cell_m = common::readDoubleStrict(cfg, "planner", "tour_cell_m", tour_cell_m);
   common::requireValid(tour_cell_m > 0 && tour_cell_m <= 0.2, cfg, "planner", "tour_cell_m",
                        "must be in (0, 0.2] (larger blocks may join the two sides of a wall)");
+  const std::string tiers = cfg.read_string("planner", "frontier_tiers", frontier_tiers ? "true" : "false");
+  const std::optional<bool> t = common::parseBoolWord(tiers);
+  common::requireValid(t.has_value(), cfg, "planner", "frontier_tiers", "expected true or false");
+  frontier_tiers = *t;
+}
+
+SamplingParams PlannerParams::frontierOrderInForce() const
+{
+  SamplingParams out = sampling;
+  if (strategy == Strategy::NextBestView && !frontier_tiers) out.th_f1_m = out.th_f2_m;
+  return out;
 }
 
 void PlannerParams::setFootprint(double length_m, double width_m)
@@ -66,6 +79,7 @@ void PlannerParams::save(mrpt::config::CConfigFileBase& cfg) const
   cfg.write("planner", "seed", seed);
   cfg.write("planner", "frontier_order", frontier_order == FrontierOrder::Tour ? "tour" : "nearest");
   cfg.write("planner", "tour_cell_m", tour_cell_m);
+  cfg.write("planner", "frontier_tiers", frontier_tiers);
 }
 
 }  // namespace voxplore::exploration

@@ -46,6 +46,12 @@ struct PlannerParams
   int seed = 1;  ///< [planner] seed of the pose sampler
   FrontierOrder frontier_order = FrontierOrder::Nearest;  ///< [planner] frontier_order = tour | nearest
   double tour_cell_m = 0.2;  ///< [planner] the tour's travel costs on blocks of about this side [m]
+  /// [planner] frontier_tiers: next-best-view takes the frontiers longer
+  /// than [sampling] th_f1_m first, then those longer than th_f2_m (thesis
+  /// 4.5.4); false: one tier, every frontier longer than th_f2_m in
+  /// frontier_order alone. The nearest strategy (the baseline) always keeps
+  /// the thesis' tiers.
+  bool frontier_tiers = true;
 
   void load(const mrpt::config::CConfigFileBase& cfg);
   void save(mrpt::config::CConfigFileBase& cfg) const;
@@ -58,6 +64,9 @@ struct PlannerParams
   /// the footprint with exact margins (CollisionParams::footprintTrimmed
   /// false), else off.
   ProjectionParams projectionInForce(double l_res_m) const;
+  /// The frontier order's thresholds: `sampling`, with th_f1_m = th_f2_m
+  /// (one tier) for next-best-view without frontier_tiers.
+  SamplingParams frontierOrderInForce() const;
   static std::vector<std::string> sections()
   {
     return {"projection", "collision", "sampling", "rooms", "scan_rating", "path", "planner"};
