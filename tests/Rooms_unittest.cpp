@@ -202,6 +202,7 @@ TEST(Planner, FinishRoomTakesTheRobotsRoomsShortFrontierBeforeALongOneElsewhere)
   const auto V = roomAndCorridor();
   const CPose2D robot(-1.0, 0.0, 0.0);
   PlannerParams p = compact();
+  p.frontier_tiers = true;  // the thesis' order
   const auto thesis = plan(V, robot, p);
   ASSERT_TRUE(thesis.ok()) << thesis.message;
   ASSERT_EQ(thesis.rooms->area_m2.size(), 2u);
@@ -233,7 +234,8 @@ TEST(Planner, WithoutFrontierTiersNextBestViewTakesTheNearShortFrontierFirst)
   const auto V = roomAndCorridor();
   const CPose2D robot(-1.0, 0.0, 0.0);
   PlannerParams p = compact();
-  ASSERT_TRUE(p.frontier_tiers);  // the thesis' tiers by default
+  EXPECT_FALSE(p.frontier_tiers);  // one tier by default
+  p.frontier_tiers = true;         // the thesis' tiers
   const auto tiers = plan(V, robot, p);
   ASSERT_TRUE(tiers.ok()) << tiers.message;
   ASSERT_EQ(tiers.frontiers->frontiers.size(), 2u);
@@ -257,11 +259,11 @@ TEST(Planner, WithoutFrontierTiersNextBestViewTakesTheNearShortFrontierFirst)
   // The key round-trips and a word that is no boolean names it.
   mrpt::config::CConfigFileMemory ini;
   PlannerParams q = compact();
-  q.frontier_tiers = false;
+  q.frontier_tiers = true;
   q.save(ini);
   PlannerParams back;
   back.load(ini);
-  EXPECT_FALSE(back.frontier_tiers);
+  EXPECT_TRUE(back.frontier_tiers);
   ini.write("planner", "frontier_tiers", "sometimes");
   EXPECT_THROW(back.load(ini), std::exception);
 }

@@ -48,10 +48,10 @@ struct PlannerParams
   double tour_cell_m = 0.2;  ///< [planner] the tour's travel costs on blocks of about this side [m]
   /// [planner] frontier_tiers: next-best-view takes the frontiers longer
   /// than [sampling] th_f1_m first, then those longer than th_f2_m (thesis
-  /// 4.5.4); false: one tier, every frontier longer than th_f2_m in
-  /// frontier_order alone. The nearest strategy (the baseline) always keeps
-  /// the thesis' tiers.
-  bool frontier_tiers = true;
+  /// 4.5.4); false (the default since the forty-second session): one tier,
+  /// every frontier longer than th_f2_m in frontier_order alone. The
+  /// nearest strategy (the baseline) always keeps the thesis' tiers.
+  bool frontier_tiers = false;
 
   void load(const mrpt::config::CConfigFileBase& cfg);
   void save(mrpt::config::CConfigFileBase& cfg) const;
