@@ -291,8 +291,8 @@ PlanResult plan(
   }
   std::vector<float> footprint_cost;  // footprintCostFromStart, when first needed
   // frontier_order = tour: each threshold tier's frontiers ranked by an open
-  // tour from the robot (the tier of th_f1, then the rest above th_f2).
-  // The frontier order's tiers (frontier_tiers).
+  // tour from the robot (the tier of th_f1, then the rest above th_f2; one
+  // tier without frontier_tiers: `order` has th_f1 = th_f2).
   const SamplingParams order = p.frontierOrderInForce();
   std::vector<double> rank;
   std::vector<FrontierTour> tours;
