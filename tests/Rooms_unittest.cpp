@@ -10,6 +10,7 @@
 
 #include <set>
 
+#include "expect_error.h"
 #include "exploration_test_maps.h"
 
 using namespace voxplore::exploration;
@@ -265,5 +266,5 @@ TEST(Planner, WithoutFrontierTiersNextBestViewTakesTheNearShortFrontierFirst)
   back.load(ini);
   EXPECT_TRUE(back.frontier_tiers);
   ini.write("planner", "frontier_tiers", "sometimes");
-  EXPECT_THROW(back.load(ini), std::exception);
+  expectErrorNaming([&] { back.load(ini); }, "frontier_tiers", "frontier_tiers = sometimes");
 }
