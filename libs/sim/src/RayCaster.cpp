@@ -51,7 +51,11 @@ inline void initRay(RTCRayHit& rh, const Eigen::Vector3f& o, const Eigen::Vector
 RayCaster::RayCaster(const TriangleMesh& mesh) : impl_(std::make_unique<Impl>())
 {
   // One build thread: the BVH is built once per world; keeps runs reproducible.
-  impl_->device = rtcNewDevice("threads=1");
+  // max_isa: Embree picks its kernels by the CPU at run time, and its AVX-512
+  // and AVX2 kernels do not return the same hit distances to the last bit, so
+  // a run took another course on another machine (BENCHMARKS.md, "Forty-third
+  // session"). SSE4.2, which every x86-64 machine in use has, on all of them.
+  impl_->device = rtcNewDevice("threads=1,max_isa=sse4.2");
   if (!impl_->device) throw std::runtime_error("Embree: rtcNewDevice failed");
   impl_->scene = rtcNewScene(impl_->device);
   rtcSetSceneFlags(impl_->scene, RTC_SCENE_FLAG_ROBUST);
@@ -91,6 +95,14 @@ float RayCaster::cast(
   rtcIntersect1(impl_->scene, &ctx, &rh);
   if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) return std::numeric_limits<float>::infinity();
   return rh.ray.tfar;
+}
+
+int RayCaster::nativePacketWidth() const
+{
+  if (rtcGetDeviceProperty(impl_->device, RTC_DEVICE_PROPERTY_NATIVE_RAY16_SUPPORTED)) return 16;
+  if (rtcGetDeviceProperty(impl_->device, RTC_DEVICE_PROPERTY_NATIVE_RAY8_SUPPORTED)) return 8;
+  if (rtcGetDeviceProperty(impl_->device, RTC_DEVICE_PROPERTY_NATIVE_RAY4_SUPPORTED)) return 4;
+  return 1;
 }
 
 void RayCaster::castFan(

@@ -32,6 +32,11 @@ class RayCaster
       const Eigen::Vector3f& origin, const Eigen::Vector3f* dirs, std::size_t n, float t_near,
       float t_far, float* t_out) const;
 
+  /// @brief The widest ray packet Embree's kernels in force trace natively
+  ///        (4 for the SSE4.2 kernels the caster is held to, 8 for AVX and
+  ///        AVX2, 16 for AVX-512): a machine-independent run needs 4.
+  int nativePacketWidth() const;
+
  private:
   struct Impl;
   std::unique_ptr<Impl> impl_;
