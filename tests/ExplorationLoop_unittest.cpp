@@ -611,6 +611,55 @@ TEST(ExplorationLoop, LowObstacleReplanAutoIsOnWithExactFootprintMargins)
                           "'sometimes'");
 }
 
+// [explore] replan_at_stops (issue 12): a stop-and-scan drive whose frontier
+// the scan at an intermediate stop has seen ends at that stop, and the loop
+// plans from there; the rooms are explored as fully, as safely, on a shorter
+// path. Off, every plan is driven to its end.
+TEST(ExplorationLoop, AStopThatSawThePlansFrontierEndsTheDrive)
+{
+  RobotSetup setup;
+  ASSERT_EQ(setup.loop.scan_mode, mission::ExplorationLoopParams::ScanMode::StopAndScan);
+  using Switch = mission::ExplorationLoopParams::Switch;
+  setup.loop.replan_at_stops = Switch::Off;
+  std::size_t hits_off = 0, hits_on = 0;
+  const auto off = exploreTwoRooms(setup, nullptr, twoRooms(), &hits_off);
+  setup.loop.replan_at_stops = Switch::On;
+  const auto on = exploreTwoRooms(setup, nullptr, twoRooms(), &hits_on);
+  std::cout << "off: " << off.termination_reason << ", " << off.steps << " steps, path "
+            << off.path_length_m << " m; on: " << on.termination_reason << ", " << on.steps
+            << " steps, path " << on.path_length_m << " m, " << on.targets_seen_on_the_way
+            << " drives ended at a stop" << std::endl;
+  EXPECT_EQ(off.targets_seen_on_the_way, 0u);
+  EXPECT_GT(on.targets_seen_on_the_way, 0u);
+  for (const auto* s : {&off, &on})
+    EXPECT_TRUE(s->termination_reason == "no frontier" ||
+                s->termination_reason == "no reachable frontier")
+        << s->termination_reason;
+  EXPECT_EQ(hits_off, 0u);
+  EXPECT_EQ(hits_on, 0u);
+  EXPECT_LT(on.path_length_m, off.path_length_m);
+  // Auto: the nbv strategy only; the nearest baseline drives to the end.
+  setup.loop.replan_at_stops = Switch::Auto;
+  setup.planner.strategy = exploration::Strategy::NearestFrontier;
+  const auto nearest = exploreTwoRooms(setup);
+  EXPECT_EQ(nearest.targets_seen_on_the_way, 0u);
+  EXPECT_TRUE(setup.loop.replanAtStopsInForce(true));
+  EXPECT_FALSE(setup.loop.replanAtStopsInForce(false));
+  // The ini: auto / true / false round-trip; anything else names the key.
+  mission::ExplorationLoopParams p;
+  mrpt::config::CConfigFileMemory m;
+  m.write("explore", "replan_at_stops", "true");
+  p.loadFromConfigFile(m, "explore");
+  EXPECT_EQ(p.replan_at_stops, Switch::On);
+  m.write("explore", "replan_at_stops", "auto");
+  p.loadFromConfigFile(m, "explore");
+  EXPECT_EQ(p.replan_at_stops, Switch::Auto);
+  EXPECT_EQ(test::savedText(p, "explore", "replan_at_stops"), "auto");
+  m.write("explore", "replan_at_stops", "often");
+  test::expectErrorNaming([&] { p.loadFromConfigFile(m, "explore"); }, "replan_at_stops",
+                          "'often'");
+}
+
 TEST(ExplorationLoop, StagnationWaitsWhileAFrontierWasNeverPlanned)
 {
   // The guard: a window that says stop does not end the run while a

@@ -90,7 +90,9 @@ ExplorationLoop::ExplorationLoop(
       driver_(std::make_unique<navigation::StopAndScanDriver>(*posed_, driver)),
       t_start_(clock.now()),
       odo_at_stop_(robot.odometry()),
-      low_replan_(params.lowObstacleReplanInForce(planner.collision, slam.octomap.l_res_m))
+      low_replan_(params.lowObstacleReplanInForce(planner.collision, slam.octomap.l_res_m)),
+      replan_at_stops_(params.replanAtStopsInForce(planner.strategy ==
+                                                   exploration::Strategy::NextBestView))
 {
   // half_turn_views: the last turn of a circle drive goes to the nearer of
   // the target's yaw and its half turn when the cameras see the same from both.

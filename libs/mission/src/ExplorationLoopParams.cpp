@@ -41,6 +41,13 @@ void ExplorationLoopParams::loadFromConfigFile(const mrpt::config::CConfigFileBa
   MRPT_LOAD_CONFIG_VAR(scan_every_deg, double, c, s);
   MRPT_LOAD_CONFIG_VAR(pass_tolerance_m, double, c, s);
   MRPT_LOAD_CONFIG_VAR(replan_on_the_way, bool, c, s);
+  if (const std::string v = c.read_string(s, "replan_at_stops", ""); !v.empty())
+  {
+    const std::optional<bool> b = common::parseBoolWord(v);
+    common::requireValid(v == "auto" || b.has_value(), c, s, "replan_at_stops",
+                         "expected auto, true or false");
+    replan_at_stops = !b ? Switch::Auto : *b ? Switch::On : Switch::Off;
+  }
   MRPT_LOAD_CONFIG_VAR(half_turn_views, bool, c, s);
   MRPT_LOAD_CONFIG_VAR(scan_latency_s, double, c, s);
   common::requireValid(scan_latency_s >= 0 && scan_latency_s <= 5, c, s, "scan_latency_s",
@@ -83,6 +90,11 @@ bool ExplorationLoopParams::lowObstacleReplanInForce(const exploration::Collisio
   return col.usesFootprint(l_res_m) && !col.footprintTrimmed(l_res_m);
 }
 
+bool ExplorationLoopParams::replanAtStopsInForce(bool nbv) const
+{
+  return replan_at_stops == Switch::Auto ? nbv : replan_at_stops == Switch::On;
+}
+
 void ExplorationLoopParams::saveToConfigFile(mrpt::config::CConfigFileBase& c,
                                              const std::string& s) const
 {
@@ -102,6 +114,10 @@ void ExplorationLoopParams::saveToConfigFile(mrpt::config::CConfigFileBase& c,
   MRPT_SAVE_CONFIG_VAR(scan_every_deg, c, s);
   MRPT_SAVE_CONFIG_VAR(pass_tolerance_m, c, s);
   MRPT_SAVE_CONFIG_VAR(replan_on_the_way, c, s);
+  c.write(s, "replan_at_stops",
+          replan_at_stops == Switch::Auto ? "auto"
+          : replan_at_stops == Switch::On ? "true"
+                                          : "false");
   MRPT_SAVE_CONFIG_VAR(half_turn_views, c, s);
   MRPT_SAVE_CONFIG_VAR(scan_latency_s, c, s);
   MRPT_SAVE_CONFIG_VAR(stagnation_new_frontier_guard, c, s);

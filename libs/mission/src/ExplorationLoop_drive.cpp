@@ -46,6 +46,13 @@ ExplorationLoop::Drive ExplorationLoop::driveWaypoints(exploration::PlanResult& 
       status_.targets_seen_on_the_way++;
       return Drive::TargetSeen;  // moving: the next plan's first drive goes on from here
     }
+    // Stop-and-scan (replan_at_stops): the scan at this stop saw the plan's
+    // frontier; the next plan starts from here, standing.
+    if (!continuous && !last && replan_at_stops_ && targetSeen(plan))
+    {
+      status_.targets_seen_on_the_way++;
+      return Drive::TargetSeen;
+    }
     if (!last && lowObstacleInterrupts(plan, i, continuous)) return Drive::Interrupted;
   }
   return Drive::Reached;

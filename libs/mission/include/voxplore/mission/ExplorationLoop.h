@@ -231,7 +231,8 @@ class ExplorationLoop
     Reached,      ///< every waypoint
     Failed,       ///< a waypoint not reached (counted against the target)
     Interrupted,  ///< a low obstacle seen on the way (low_obstacle_replan)
-    TargetSeen,   ///< the plan's frontier seen on the way (replan_on_the_way); the robot moves
+    TargetSeen,   ///< the plan's frontier seen on the way (replan_on_the_way: the robot moves;
+                  ///< replan_at_stops: it stands at the stop)
   };
   /// The caller replans unless Reached. Lead-ins made on the way change
   /// the plan's waypoints (leadInOnTheWay).
@@ -381,6 +382,8 @@ class ExplorationLoop
   double path_at_interrupt_ = -std::numeric_limits<double>::infinity();
   /// params_.low_obstacle_replan resolved (lowObstacleReplanInForce).
   bool low_replan_ = false;
+  /// params_.replan_at_stops resolved for the planner's strategy.
+  bool replan_at_stops_ = false;
   /// A circle drive's last turn may end this much off the target's yaw, or a
   /// multiple of it (the cameras see the same: continuous mode) [rad]; 0 = none.
   double view_period_ = 0;

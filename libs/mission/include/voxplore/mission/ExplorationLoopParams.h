@@ -134,6 +134,17 @@ struct ExplorationLoopParams : public mrpt::config::CLoadableOptions
   /// since the thirty-fourth session: 0.80x -> 0.76x the stop-and-scan
   /// mission time on the same 18 campaign runs (b1-b5), coverage as before.
   bool replan_on_the_way = true;
+  /// Stop-and-scan: after each intermediate stop's scan, the same check as
+  /// replan_on_the_way (the plan's frontier gone from the frontiers computed
+  /// again from that stop); when it holds the drive ends at that stop and the
+  /// loop plans from there, instead of driving on to a view of a frontier
+  /// already seen (the thesis drives each plan to its end). Auto = on for
+  /// the nbv strategy, off for the nearest baseline (which stays the
+  /// thesis'); On / Off = for both.
+  Switch replan_at_stops = Switch::Off;
+  /// @brief replan_at_stops resolved for the strategy (nbv true: the thesis'
+  ///        next-best-view; false: the nearest baseline).
+  bool replanAtStopsInForce(bool nbv) const;
   /// Continuous: a circle drive's last turn goes to the nearer of the
   /// target's yaw and its half turn when the cameras see the same from both
   /// (common::mountsSymmetricUnderHalfTurn; the thesis ring does). Off until
