@@ -138,9 +138,12 @@ bool ExplorationLoop::targetSeen(const exploration::PlanResult& plan)
   if (!plan.frontier || (rev.map == checked_at_.map && rev.rev == checked_at_.rev)) return false;
   checked_at_ = rev;
   // The frontiers only (a plan's views are rated only when it is taken).
+  mrpt::system::CTicTac tic;
   const auto now = exploration::planLayers(slam_.octomap().tree(), planPose(), planner_, swept_,
                                            sensed_obstacles_, slam_.octomap().lowObstacles(),
                                            projectionCache(), nullptr);
+  status_.seen_checks++;
+  status_.seen_check_s += tic.Tac();
   if (!now.frontiers) return false;
   const double r = planner_.sampling.blacklist_radius_m;
   return std::none_of(now.frontiers->frontiers.begin(), now.frontiers->frontiers.end(),

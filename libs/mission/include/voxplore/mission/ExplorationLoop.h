@@ -107,7 +107,9 @@ struct ExplorationStatus
   std::size_t guard_held = 0;     ///< ... of those, the ones it held still
   std::size_t low_obstacle_replans = 0;  ///< drives ended by a low obstacle seen on the way (low_obstacle_replan)
   std::size_t scans_moving = 0;  ///< scans taken while driving (scan_mode = continuous)
-  std::size_t targets_seen_on_the_way = 0;  ///< drives ended because their frontier was seen (replan_on_the_way)
+  std::size_t targets_seen_on_the_way = 0;  ///< drives ended because their frontier was seen (replan_on_the_way, replan_at_stops)
+  std::size_t seen_checks = 0;  ///< frontiers computed again on the way to see whether the plan's is gone
+  double seen_check_s = 0;      ///< wall time of those checks [s]
   double path_length_m = 0;       ///< travelled by the pose estimate between stops [m]
   double time_translating_s = 0;  ///< robot time translating (any speed) [s]
   double time_turning_s = 0;      ///< ... turning in place; the rest it stood (scans, stops) [s]
