@@ -141,7 +141,7 @@ struct ExplorationLoopParams : public mrpt::config::CLoadableOptions
   /// already seen (the thesis drives each plan to its end). Auto = on for
   /// the nbv strategy, off for the nearest baseline (which stays the
   /// thesis'); On / Off = for both.
-  Switch replan_at_stops = Switch::Off;
+  Switch replan_at_stops = Switch::Auto;
   /// @brief replan_at_stops resolved for the strategy (nbv true: the thesis'
   ///        next-best-view; false: the nearest baseline).
   bool replanAtStopsInForce(bool nbv) const;
