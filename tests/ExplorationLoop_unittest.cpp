@@ -562,6 +562,9 @@ TEST(ExplorationLoop, ALowObstacleSeenOnTheWayEndsTheDrive)
   // The plate lies on the course the thesis' frontier tiers take (one tier
   // goes to the left room's short frontiers first and plans past it later).
   setup.planner.frontier_tiers = true;
+  // ... and drives its plans to their ends (replan_at_stops ends the drive
+  // that passes it at a stop before, whose scan saw the plan's frontier).
+  setup.loop.replan_at_stops = mission::ExplorationLoopParams::Switch::Off;
   setup.loop.max_steps = 30;
   setup.loop.low_obstacle_replan = mission::ExplorationLoopParams::Switch::On;
   std::size_t hits_on = 0, hits_off = 0;
@@ -666,6 +669,10 @@ TEST(ExplorationLoop, StagnationWaitsWhileAFrontierWasNeverPlanned)
   // frontier left lies away from every frontier planned so far (a room
   // never targeted); when the run does end by stagnation, none is new.
   RobotSetup setup = pathWindowSetup();
+  // The thesis' drives to the plan's end: the course on which the window
+  // closes while a room is still new (with replan_at_stops the window closes
+  // with no new frontier left, and the guard has nothing to hold).
+  setup.loop.replan_at_stops = mission::ExplorationLoopParams::Switch::Off;
   CountingListener plain;
   const auto without = exploreTwoRooms(setup, &plain);
   ASSERT_EQ(without.termination_reason, "stagnation");

@@ -357,7 +357,11 @@ void ExplorationLoop::onRobotStep()
     scanAndIntegrate(true);
   }
   if (listener_) listener_->onRobotStep();
-  // The limits hold inside a drive too (a drive may last minutes).
+  stopIfLimitReached();  // the limits hold inside a drive too (a drive may last minutes)
+}
+
+void ExplorationLoop::stopIfLimitReached()
+{
   if (auto reason = limitReached(false); !reason.empty()) throw RunStopped{std::move(reason)};
 }
 

@@ -36,6 +36,11 @@ ExplorationLoop::Drive ExplorationLoop::driveWaypoints(exploration::PlanResult& 
       status_.scans_moving++;
       scanAndIntegrate(true);
     }
+    // A standing scan takes simulated time too (the sensor's exposure): a
+    // limit it reached ends the run here, not one robot step into the next
+    // drive (max_sim_time_s overshot by two steps: a drive ended at a stop,
+    // replan_at_stops, whose scan reached the limit).
+    if (!last) stopIfLimitReached();
     if (!r.reached())
     {
       noteFailedDrive(plan, i, r);

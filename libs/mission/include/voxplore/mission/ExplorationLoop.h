@@ -344,6 +344,9 @@ class ExplorationLoop
   /// The listener's stop reason, max_steps (only `between_steps`), or the
   /// time limit; empty when the run goes on.
   std::string limitReached(bool between_steps);
+  /// Ends the run inside a drive (a listener's stop or the time limit),
+  /// as onRobotStep() does: also after a stop's scan, which takes time too.
+  void stopIfLimitReached();
   /// Clock seconds since run() started.
   double elapsedSeconds() const;
   /// The projection cache, told where the map changed since the last plan.
