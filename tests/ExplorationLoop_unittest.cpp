@@ -663,6 +663,53 @@ TEST(ExplorationLoop, AStopThatSawThePlansFrontierEndsTheDrive)
                           "'often'");
 }
 
+// [explore] seen_gate: the check of replan_at_stops first looks at the
+// ground projection alone; while most of the plan's frontier cells still
+// border unknown, the frontier is there and the frontiers are not computed
+// again. verify computes both and lets the full check decide: its run is the
+// run without the gate, and it counts the gate's wrong answers.
+TEST(ExplorationLoop, TheSeenGateAnswersChecksFromTheProjectionAndVerifyKeepsTheRun)
+{
+  RobotSetup setup;
+  setup.loop.replan_at_stops = mission::ExplorationLoopParams::Switch::On;
+  setup.loop.seen_gate_fraction = 0.5;  // this small world's frontiers are seen at once
+  setup.loop.seen_gate = false;
+  const auto off = exploreTwoRooms(setup);
+  setup.loop.seen_gate_verify = true;
+  const auto verify = exploreTwoRooms(setup);
+  setup.loop.seen_gate_verify = false;
+  setup.loop.seen_gate = true;
+  std::size_t hits = 0;
+  const auto on = exploreTwoRooms(setup, nullptr, twoRooms(), &hits);
+  std::cout << "off: " << off.seen_checks << " checks, path " << off.path_length_m
+            << " m; verify: " << verify.seen_gate_misses << " misses; on: " << on.seen_checks
+            << " checks, " << on.seen_gated << " gated, path " << on.path_length_m << " m, "
+            << on.termination_reason << std::endl;
+  EXPECT_GT(off.seen_checks, 0u);
+  EXPECT_EQ(off.seen_gated, 0u);
+  EXPECT_EQ(verify.seen_gated, 0u);
+  EXPECT_EQ(verify.steps, off.steps);
+  EXPECT_EQ(verify.seen_checks, off.seen_checks);
+  EXPECT_EQ(verify.targets_seen_on_the_way, off.targets_seen_on_the_way);
+  EXPECT_DOUBLE_EQ(verify.path_length_m, off.path_length_m);
+  EXPECT_LE(verify.seen_gate_misses, verify.seen_checks);
+  EXPECT_GT(on.seen_gated, 0u);
+  EXPECT_GT(on.targets_seen_on_the_way, 0u);
+  EXPECT_TRUE(on.termination_reason == "no frontier" ||
+              on.termination_reason == "no reachable frontier")
+      << on.termination_reason;
+  EXPECT_EQ(hits, 0u);
+  // The ini: a fraction outside (0, 1] names the key.
+  mission::ExplorationLoopParams p;
+  mrpt::config::CConfigFileMemory m;
+  m.write("explore", "seen_gate_fraction", "1");
+  p.loadFromConfigFile(m, "explore");
+  EXPECT_EQ(p.seen_gate_fraction, 1.0);
+  m.write("explore", "seen_gate_fraction", "0");
+  test::expectErrorNaming([&] { p.loadFromConfigFile(m, "explore"); }, "seen_gate_fraction",
+                          "seen_gate_fraction = 0");
+}
+
 TEST(ExplorationLoop, StagnationWaitsWhileAFrontierWasNeverPlanned)
 {
   // The guard: a window that says stop does not end the run while a

@@ -80,6 +80,46 @@ TEST(Planner, PlansThroughTheDoorway)
   EXPECT_GE(r.ms.total, r.ms.rating);
 }
 
+// The seen gate's count ([explore] seen_gate): the plan's frontier cells
+// that still border unknown, looked up by their centres in another grid (a
+// grown map's: other bounds, the same lattice).
+TEST(Planner, FrontierCellsLeftCountsThoseStillFacingUnknown)
+{
+  const auto t = doorRoom();
+  const PlanResult r = plan(t, CPose2D(0, 0, 0), params());
+  ASSERT_TRUE(r.frontier.has_value());
+  ASSERT_TRUE(r.ground != nullptr);
+  const std::size_t n = r.frontier->cells.size();
+  ASSERT_GE(n, 4u);
+  EXPECT_EQ(frontierCellsLeft(*r.frontier, *r.ground, *r.ground, true), n);
+  // The same states on a grid 1 m larger on every side.
+  const auto& s = r.ground->state;
+  GroundGrid big = test::makeGround(s.getXMin() - 1.0, s.getXMax() + 1.0, s.getYMin() - 1.0,
+                                    s.getYMax() + 1.0, s.getResolution(), GroundState::Unknown);
+  ASSERT_EQ(big.state.getSizeX(), s.getSizeX() + 40);
+  for (std::size_t cy = 0; cy < s.getSizeY(); ++cy)
+    for (std::size_t cx = 0; cx < s.getSizeX(); ++cx)
+    {
+      const Cell c{static_cast<int>(cx), static_cast<int>(cy)};
+      const Cell k = test::cellAt(big.state, s.idx2x(c.cx), s.idx2y(c.cy));
+      *big.state.cellByIndex(k.cx, k.cy) = *s.cellByIndex(cx, cy);
+    }
+  EXPECT_EQ(frontierCellsLeft(*r.frontier, *r.ground, big, true), n);
+  // The south half of what lies beyond the doorway seen: about half left.
+  test::paint(big, 3.05, 8.0, -3.0, 0.0, GroundState::Free);
+  const std::size_t half = frontierCellsLeft(*r.frontier, *r.ground, big, true);
+  EXPECT_GT(half, n / 4);
+  EXPECT_LT(half, 3 * n / 4);
+  // A wall seen one cell behind what is still unknown: that unknown is an
+  // unseen wall base, no open unknown with ignore_beside_obstacles.
+  test::paint(big, 3.1, 3.15, 0.0, 3.0, GroundState::Occupied);
+  EXPECT_EQ(frontierCellsLeft(*r.frontier, *r.ground, big, false), half);
+  EXPECT_EQ(frontierCellsLeft(*r.frontier, *r.ground, big, true), 0u);
+  // All of it seen: none left.
+  test::paint(big, 3.05, 8.0, -3.0, 3.0, GroundState::Free);
+  EXPECT_EQ(frontierCellsLeft(*r.frontier, *r.ground, big, true), 0u);
+}
+
 TEST(Planner, FullyKnownClosedRoomIsDone)
 {
   const auto V = room(0.0);

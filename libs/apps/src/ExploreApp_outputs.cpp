@@ -157,6 +157,7 @@ void writeExploreSummary(const ExploreSummary& s, const std::string& path)
     << ",\n  \"scans_moving\": " << s.scans_moving
     << ",\n  \"targets_seen_on_the_way\": " << s.targets_seen_on_the_way
     << ",\n  \"seen_checks\": " << s.seen_checks << ",\n  \"seen_check_s\": " << s.seen_check_s
+    << ",\n  \"seen_gated\": " << s.seen_gated << ",\n  \"seen_gate_misses\": " << s.seen_gate_misses
     << ",\n  \"path_length_m\": " << s.path_length_m
     << ",\n  \"known_floor_m2\": " << s.known_floor_m2
     << ",\n  \"known_floor_cut_off_m2\": " << s.known_floor_cut_off_m2
@@ -298,6 +299,8 @@ void ExploreRun::finish()
   s_.targets_seen_on_the_way = status.targets_seen_on_the_way;
   s_.seen_checks = status.seen_checks;
   s_.seen_check_s = status.seen_check_s;
+  s_.seen_gated = status.seen_gated;
+  s_.seen_gate_misses = status.seen_gate_misses;
   s_.known_floor_m2 = status.known_floor_m2;
   s_.known_floor_cut_off_m2 = status.known_floor_cut_off_m2;
   s_.unobservable_m2 = status.unobservable_m2;

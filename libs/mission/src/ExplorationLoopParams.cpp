@@ -48,6 +48,11 @@ void ExplorationLoopParams::loadFromConfigFile(const mrpt::config::CConfigFileBa
                          "expected auto, true or false");
     replan_at_stops = !b ? Switch::Auto : *b ? Switch::On : Switch::Off;
   }
+  MRPT_LOAD_CONFIG_VAR(seen_gate, bool, c, s);
+  MRPT_LOAD_CONFIG_VAR(seen_gate_verify, bool, c, s);
+  MRPT_LOAD_CONFIG_VAR(seen_gate_fraction, double, c, s);
+  common::requireValid(seen_gate_fraction > 0 && seen_gate_fraction <= 1, c, s,
+                       "seen_gate_fraction", "must be in (0, 1]");
   MRPT_LOAD_CONFIG_VAR(half_turn_views, bool, c, s);
   MRPT_LOAD_CONFIG_VAR(scan_latency_s, double, c, s);
   common::requireValid(scan_latency_s >= 0 && scan_latency_s <= 5, c, s, "scan_latency_s",
@@ -118,6 +123,9 @@ void ExplorationLoopParams::saveToConfigFile(mrpt::config::CConfigFileBase& c,
           replan_at_stops == Switch::Auto ? "auto"
           : replan_at_stops == Switch::On ? "true"
                                           : "false");
+  MRPT_SAVE_CONFIG_VAR(seen_gate, c, s);
+  MRPT_SAVE_CONFIG_VAR(seen_gate_verify, c, s);
+  MRPT_SAVE_CONFIG_VAR(seen_gate_fraction, c, s);
   MRPT_SAVE_CONFIG_VAR(half_turn_views, c, s);
   MRPT_SAVE_CONFIG_VAR(scan_latency_s, c, s);
   MRPT_SAVE_CONFIG_VAR(stagnation_new_frontier_guard, c, s);

@@ -137,18 +137,48 @@ bool ExplorationLoop::targetSeen(const exploration::PlanResult& plan)
   const auto rev = slam_.octomap().revision();
   if (!plan.frontier || (rev.map == checked_at_.map && rev.rev == checked_at_.rev)) return false;
   checked_at_ = rev;
-  // The frontiers only (a plan's views are rated only when it is taken).
   mrpt::system::CTicTac tic;
-  const auto now = exploration::planLayers(slam_.octomap().tree(), planPose(), planner_, swept_,
-                                           sensed_obstacles_, slam_.octomap().lowObstacles(),
-                                           projectionCache(), nullptr);
+  // The frontiers only (a plan's views are rated only when it is taken).
+  const auto& V = slam_.octomap().tree();
+  const mrpt::poses::CPose2D pose = planPose();
+  exploration::GroundGrid g = exploration::projectToGround(
+      V, pose, planner_.projectionInForce(slam_.octomap().params().l_res_m), swept_,
+      projectionCache());
   status_.seen_checks++;
+  // seen_gate: while enough of the frontier's cells still border unknown,
+  // it is there; the collision space and the reachability are not needed.
+  const bool verify = params_.seen_gate_verify;
+  bool gate_there = false;
+  std::size_t left = 0;
+  if ((params_.seen_gate || verify) && plan.ground)
+  {
+    const double n = static_cast<double>(plan.frontier->cells.size());
+    left = exploration::frontierCellsLeft(*plan.frontier, *plan.ground, g,
+                                          planner_.collision.ignore_unknown_beside_obstacles);
+    gate_there = n > 0 && static_cast<double>(left) >= params_.seen_gate_fraction * n;
+  }
+  if (gate_there && !verify)
+  {
+    status_.seen_gated++;
+    status_.seen_check_s += tic.Tac();
+    return false;
+  }
+  const auto now = exploration::planLayersOn(std::move(g), pose, planner_, swept_,
+                                             sensed_obstacles_, slam_.octomap().lowObstacles(),
+                                             nullptr);
   status_.seen_check_s += tic.Tac();
   if (!now.frontiers) return false;
   const double r = planner_.sampling.blacklist_radius_m;
-  return std::none_of(now.frontiers->frontiers.begin(), now.frontiers->frontiers.end(),
-                      [&](const exploration::Frontier& f)
-                      { return (f.center - plan.frontier->center).norm() <= r; });
+  const bool seen = std::none_of(now.frontiers->frontiers.begin(), now.frontiers->frontiers.end(),
+                                 [&](const exploration::Frontier& f)
+                                 { return (f.center - plan.frontier->center).norm() <= r; });
+  if (gate_there && seen) status_.seen_gate_misses++;
+  if (verify)
+    message(mrpt::format("seen gate: %zu of %zu frontier cells border open unknown; the "
+                         "frontier is %s%s",
+                         left, plan.frontier->cells.size(), seen ? "seen" : "there",
+                         gate_there && seen ? " (a miss)" : ""));
+  return seen;
 }
 
 std::optional<ExplorationLoop::Pass> ExplorationLoop::passTolerance(const exploration::PlanResult& plan,

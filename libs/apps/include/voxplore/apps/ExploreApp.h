@@ -76,6 +76,8 @@ struct ExploreSummary
   std::size_t scans_moving = 0;  ///< scans taken while driving ([explore] scan_mode = continuous)
   std::size_t seen_checks = 0;   ///< frontiers computed again on the way (replan_on_the_way, replan_at_stops)
   double seen_check_s = 0;       ///< their wall time [s]
+  std::size_t seen_gated = 0;        ///< of seen_checks, answered by the projection alone ([explore] seen_gate)
+  std::size_t seen_gate_misses = 0;  ///< seen_gate = verify: the gate's wrong answers
   std::size_t targets_seen_on_the_way = 0;  ///< drives ended on the way: their frontier was seen ([explore] replan_on_the_way)
   std::size_t new_frontiers = 0;  ///< frontiers of the last step not near one planned before
   double known_floor_m2 = 0;       ///< free floor known in G at the end [m^2]

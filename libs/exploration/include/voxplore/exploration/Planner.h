@@ -194,6 +194,27 @@ PlanResult planLayers(const octomap::OcTree& V, const mrpt::poses::CPose2D& robo
                       const std::vector<Eigen::Vector2d>& low_obstacles,
                       ProjectionCache* projection_cache, FrontierLooks* looks);
 
+/// @brief planLayers() on a G already projected (projectToGround with the
+///        projection of `p`, at the robot's pose): the obstacles stamped,
+///        then the collision space and the frontiers. planLayers() is
+///        projectToGround() and this.
+PlanResult planLayersOn(GroundGrid ground, const mrpt::poses::CPose2D& robot,
+                        const PlannerParams& p, const SweptPath& swept,
+                        const std::vector<Eigen::Vector2d>& sensed_obstacles,
+                        const std::vector<Eigen::Vector2d>& low_obstacles, FrontierLooks* looks);
+
+/// @brief How many of a plan's frontier cells (`frontier`'s, in the grid
+///        `planned_on` it was found in) still border open unknown in `now`
+///        (a 4-neighbour Unknown, or off the grid; with
+///        `ignore_beside_obstacles`, as [collision]
+///        ignore_unknown_beside_obstacles, not an Unknown cell beside an
+///        Occupied one), looked up by their centres in `now` (a grown map's
+///        grid has other bounds; a cell off `now` counts as bordering). The
+///        cheap half of "has the robot seen the frontier it drives to"
+///        ([explore] seen_gate): no collision space, no reachability.
+std::size_t frontierCellsLeft(const Frontier& frontier, const GroundGrid& planned_on,
+                              const GroundGrid& now, bool ignore_beside_obstacles);
+
 /// @brief PNG of G with its layers in the thesis' colours (fig. 4.12): free
 ///        white, occupied black, unknown red (brown where retired as looked
 ///        at and left unknown), collision grey, maybe-collision

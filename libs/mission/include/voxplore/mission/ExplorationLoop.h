@@ -110,6 +110,8 @@ struct ExplorationStatus
   std::size_t targets_seen_on_the_way = 0;  ///< drives ended because their frontier was seen (replan_on_the_way, replan_at_stops)
   std::size_t seen_checks = 0;  ///< frontiers computed again on the way to see whether the plan's is gone
   double seen_check_s = 0;      ///< wall time of those checks [s]
+  std::size_t seen_gated = 0;        ///< of seen_checks, answered by [explore] seen_gate alone
+  std::size_t seen_gate_misses = 0;  ///< seen_gate = verify: checks the gate would have answered wrongly
   double path_length_m = 0;       ///< travelled by the pose estimate between stops [m]
   double time_translating_s = 0;  ///< robot time translating (any speed) [s]
   double time_turning_s = 0;      ///< ... turning in place; the rest it stood (scans, stops) [s]
