@@ -9,13 +9,18 @@
 # 1. mrpt-sim on the dlr_test_room tour (simulated_worlds/dlr_test_room_tour.txt,
 #    config/sim.ini, seed 1): the md5 of run.rawlog (the range images the
 #    simulator's ray casting made: Embree, sensor noise).
-# 2. voxplore-explore on generated building 4 (voxplore-worldgen --seed 4),
+# 2. voxplore-replay of the recorded rawlogs/dlr_test_room/run.rawlog
+#    (config/replay.ini): the md5 of trajectory_est.tum and map.bt (SlamIcp
+#    and the OctoMap alone, on the same input bytes everywhere).
+# 3. voxplore-explore on generated building 4 (voxplore-worldgen --seed 4),
 #    compact robot, nbv, seed 1, --max-steps N (default 20): stops, path and
 #    the md5 of trajectory_est.tum (SlamIcp and the planner on those images).
-# Same md5s: the machines make the same runs, campaigns pair across them.
+# Same md5s: the machines make the same runs, campaigns pair across them;
+# which line differs first says where they part (the simulator's images,
+# SlamIcp, or the planner and the drive).
 # Different: each campaign of a comparison must be run on one machine (a
 # single range pixel sends a run another way; BENCHMARKS.md). Takes about
-# 10 s on one core. Exit status 0 unless a tool fails.
+# 15 s on one core. Exit status 0 unless a tool fails.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
@@ -31,7 +36,7 @@ while [ $# -gt 0 ]; do
     *) echo "fingerprint.sh: unknown argument '$1' (see --help)" >&2; exit 2 ;;
   esac
 done
-for t in mrpt-sim voxplore-worldgen voxplore-explore; do
+for t in mrpt-sim voxplore-replay voxplore-worldgen voxplore-explore; do
   [ -x "$BIN/$t" ] || { echo "fingerprint.sh: $BIN/$t not found (scripts/build.sh first, or --bin DIR)" >&2; exit 2; }
 done
 if [ -z "$OUT" ]; then
@@ -48,6 +53,11 @@ echo "commit: $(git rev-parse --short HEAD 2>/dev/null || echo unknown)$(git dif
   --out "$OUT/sim" --seed 1 > "$OUT/sim.log" 2>&1 ||
   { echo "fingerprint.sh: mrpt-sim failed: $(tail -n 1 "$OUT/sim.log")" >&2; exit 1; }
 echo "mrpt-sim dlr_test_room tour: rawlog md5 $(md5sum < "$OUT/sim/run.rawlog" | cut -d' ' -f1)"
+
+"$BIN/voxplore-replay" --config config/replay.ini --rawlog rawlogs/dlr_test_room/run.rawlog \
+  --out "$OUT/replay" -q > "$OUT/replay.log" 2>&1 ||
+  { echo "fingerprint.sh: voxplore-replay failed: $(tail -n 1 "$OUT/replay.log")" >&2; exit 1; }
+echo "voxplore-replay dlr_test_room rawlog: trajectory md5 $(md5sum < "$OUT/replay/trajectory_est.tum" | cut -d' ' -f1), map.bt md5 $(md5sum < "$OUT/replay/map.bt" | cut -d' ' -f1)"
 
 "$BIN/voxplore-worldgen" --seed 4 --out "$OUT/b4" --no-topview -q
 if ! "$BIN/voxplore-explore" --config config/explore.ini --world "$OUT/b4/building.world" \

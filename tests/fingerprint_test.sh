@@ -9,6 +9,7 @@ a=$("$REPO/scripts/fingerprint.sh" --bin "$BIN" --steps 5)
 b=$("$REPO/scripts/fingerprint.sh" --bin "$BIN" --steps 5)
 echo "$a"
 grep -q "rawlog md5 [0-9a-f]\{32\}" <<<"$a"
+grep -q "rawlog: trajectory md5 [0-9a-f]\{32\}, map.bt md5 [0-9a-f]\{32\}" <<<"$a"
 grep -q "5 steps: [0-9]* stops, path [0-9.]* m, trajectory md5 [0-9a-f]\{32\}" <<<"$a"
 [ "$a" = "$b" ] || { echo "second run differs:"; echo "$b"; exit 1; }
 if "$REPO/scripts/fingerprint.sh" --bin /nonexistent 2> /tmp/fp_err.$$; then
