@@ -11,8 +11,9 @@
 # timeout (wall limit; SIGTERM, which voxplore-explore answers by writing every
 # output, then SIGKILL 60 s later), with --out RUNDIR, and writes
 #   RUNDIR/stdout.log, RUNDIR/stderr.log, RUNDIR/time.txt (time -v's report),
-#   RUNDIR/run.json: the spec line, the exact command, exit status, wall s,
-#     cpu s, peak RSS MB, and error (null on success; the last stderr line, or
+#   RUNDIR/run.json: the spec line, the exact command, host and CPU model (a
+#     run's course can differ from machine to machine: BENCHMARKS.md), exit
+#     status, wall s, cpu s, peak RSS MB, and error (null on success; the last stderr line, or
 #     "timeout after N s", on failure).
 # run.json is written last (atomically): a run dir without it is unfinished.
 #
@@ -185,6 +186,7 @@ tmp="$RUNDIR/run.json.tmp"
   printf '  "command": %s,\n' "$(json_str "$cmd_str")"
   printf '  "argv": %s,\n' "$argv_json"
   printf '  "host": %s,\n' "$(json_str "$(hostname)")"
+  printf '  "cpu": %s,\n' "$(json_str "$(sed -n 's/^model name[[:space:]]*: //p' /proc/cpuinfo 2>/dev/null | head -n 1)")"
   printf '  "started": %s,\n' "$(json_str "$started")"
   printf '  "timeout_s": %s,\n' "$(json_num "$TIMEOUT")"
   printf '  "exit_status": %s,\n' "$status"

@@ -549,6 +549,13 @@ TEST(ExplorationLoop, AKnownFloorFallenByHalfIsAMapThatShutTheRobotIn)
   EXPECT_FALSE(L::floorCollapsed({10, 20, 30}));
   EXPECT_FALSE(L::floorCollapsed({50}));
   EXPECT_FALSE(L::floorCollapsed({}));
+  // The floor still in G, cut off from the robot: b7 compact nbv (seed 2)
+  // stood between two tables' legs with 145.5 of 146 m^2 cut off.
+  EXPECT_TRUE(L::cutOffShutsIn(145.5, 146.1));
+  EXPECT_TRUE(L::cutOffShutsIn(60, 100));
+  EXPECT_FALSE(L::cutOffShutsIn(50, 100));
+  EXPECT_FALSE(L::cutOffShutsIn(3, 400)) << "floor beside furniture legs";
+  EXPECT_FALSE(L::cutOffShutsIn(4, 5)) << "under 5 m^2";
 }
 
 TEST(ExplorationLoop, ALowObstacleSeenOnTheWayEndsTheDrive)

@@ -133,6 +133,13 @@ std::optional<double> ExplorationLoop::floorGainOver(double window) const
   return known_floor_.back() - known_floor_[j];
 }
 
+bool ExplorationLoop::cutOffShutsIn(double cut_off_m2, double known_floor_m2)
+{
+  // 5 m^2, as noteCutOff's floor beside furniture legs and in corners; half,
+  // as floorCollapsed and replanShutIn.
+  return cut_off_m2 >= 5.0 && cut_off_m2 > 0.5 * known_floor_m2;
+}
+
 bool ExplorationLoop::floorCollapsed(const std::vector<double>& known_floor)
 {
   if (known_floor.size() < 2) return false;

@@ -213,6 +213,11 @@ class ExplorationLoop
   ///        is under half of the largest before it: G lost its floor, the
   ///        map (not the building) shut the robot in.
   static bool floorCollapsed(const std::vector<double>& known_floor);
+  /// @brief Whether `cut_off_m2` of the `known_floor_m2` of known free floor
+  ///        cut off from the robot (an end with nothing to plan) is more
+  ///        than half of it and at least 5 m^2: the map shut the robot in,
+  ///        whatever the planner's reason says.
+  static bool cutOffShutsIn(double cut_off_m2, double known_floor_m2);
 
  private:
   class PosedRobot;
