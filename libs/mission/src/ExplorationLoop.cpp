@@ -212,22 +212,10 @@ void ExplorationLoop::loop()
     {
       status_.termination_reason = exploration::toString(plan.done);
       noteCutOff(cut_off_m2);
-      const bool collapsed =
-          endShutIn(status_.termination_reason +
-                    "; no frontier is reachable: the pose estimate left the map's free space, or "
-                    "the map closed round the robot");
-      // The floor is still in G but the planner's robot cannot leave where
-      // it stands (b7 compact nbv, seed 2: between two tables' legs, 146 of
-      // 146 m^2 cut off at coverage 0.40): not "no frontier", which reads
-      // as explored.
-      if (!collapsed && cutOffShutsIn(cut_off_m2, status_.known_floor_m2))
-      {
-        message(mrpt::format("the map shut the robot in: %.0f of the %.0f m^2 of known free floor "
-                             "are cut off from where it stands (%s)",
-                             cut_off_m2, status_.known_floor_m2,
-                             status_.termination_reason.c_str()));
-        status_.termination_reason = "the map shut the robot in";
-      }
+      endShutIn(status_.termination_reason +
+                "; no frontier is reachable: the pose estimate left the map's free space, or the map "
+                "closed round the robot",
+                cut_off_m2);
       return;
     }
     if (stagnated()) return;

@@ -70,18 +70,29 @@ void ExplorationLoop::noteCutOff(double cut_off_m2)
                          cut_off_m2, status_.known_floor_m2));
 }
 
-bool ExplorationLoop::endShutIn(const std::string& detail)
+bool ExplorationLoop::endShutIn(const std::string& detail, double cut_off_m2)
 {
   // A known floor that fell by half or more is no explored building: the
   // robot's pose left the map's free space or the map closed round it, by
   // drift (willowgarage compact nbv: 1,057 -> 72 m^2 in one step at 1.1 m of
   // drift, coverage 0.03; issue 11) or by a registration through a wall (b1
   // compact nbv: 530 -> 0.07 m^2, ended "no frontier" at coverage 0).
-  if (!floorCollapsed(known_floor_)) return false;
+  if (floorCollapsed(known_floor_))
+  {
+    status_.termination_reason = "the map shut the robot in";
+    message(mrpt::format("the map shut the robot in: the free floor known in G fell from %.0f to %.1f m^2: %s",
+                         *std::max_element(known_floor_.begin(), known_floor_.end() - 1),
+                         known_floor_.back(), detail.c_str()));
+    return true;
+  }
+  // The floor still in G, but the planner's robot cannot leave where it
+  // stands (b7 compact nbv, seed 2: between two tables' legs, 146 of 146 m^2
+  // cut off at coverage 0.40): not "no frontier", which reads as explored.
+  if (!cutOffShutsIn(cut_off_m2, status_.known_floor_m2)) return false;
+  message(mrpt::format("the map shut the robot in: %.0f of the %.0f m^2 of known free floor are "
+                       "cut off from where it stands (%s)",
+                       cut_off_m2, status_.known_floor_m2, status_.termination_reason.c_str()));
   status_.termination_reason = "the map shut the robot in";
-  message(mrpt::format("the map shut the robot in: the free floor known in G fell from %.0f to %.1f m^2: %s",
-                       *std::max_element(known_floor_.begin(), known_floor_.end() - 1),
-                       known_floor_.back(), detail.c_str()));
   return true;
 }
 

@@ -324,10 +324,11 @@ class ExplorationLoop
   /// of known floor cut off, by the relaxed one when that finds a way.
   void replanShutIn(exploration::PlanResult& plan, double cut_off_m2, std::size_t step,
                     const std::vector<Eigen::Vector2d>& approach);
-  /// When the known floor fell by half or more (floorCollapsed): ends the
-  /// run "the map shut the robot in" with a message ending in `detail`
-  /// (stagnation, or an end with nothing to plan); true then.
-  bool endShutIn(const std::string& detail);
+  /// When the known floor fell by half or more (floorCollapsed), or when
+  /// `cut_off_m2` of it is cut off from the robot (cutOffShutsIn; an end
+  /// with nothing to plan): ends the run "the map shut the robot in" with a
+  /// message ending in `detail` or naming the cut-off floor; true then.
+  bool endShutIn(const std::string& detail, double cut_off_m2 = 0);
   /// The plan's frontiers and known floor into status_ (and known_floor_).
   void noteFrontiers(const exploration::PlanResult& plan);
   /// The free floor found over the last stagnation_steps planning steps
