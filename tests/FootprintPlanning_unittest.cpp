@@ -1229,3 +1229,46 @@ TEST(FootprintSpace, AStartOnACellBorderStartsAtTheSpacesRobotCell)
   EXPECT_EQ(shared->cells_path, own->cells_path);
   expectNeverClips(g, *shared);
 }
+
+TEST(FootprintSpace, ARobotBetweenTableLegsEscapesAtAThinnerMargin)
+{
+  // b7, compact robot, nbv, seed 2 (a real map, the defaults: "auto"
+  // margin 5 cm): a drive ended with the robot between two tables' leg
+  // groups. Its own state was clear, and two of the 3 cells its bin reached
+  // were turnable into the next bin, so it was not "boxed in"; but nothing
+  // else was reached: all 146 m^2 of known floor cut off, 'the map shut the
+  // robot in' at coverage 0.40. The body passes there (the simulator's
+  // clearance 2.8 cm); the legs' squares, with the margin, do not let it.
+  // A reach shorter than the body escapes, at a thinner margin if the
+  // margin's states lead nowhere turnable.
+  GroundFixture f = loadGroundFixture(voxplore::test::sourceDir() +
+                                      "/tests/data/footprint_b7_between_table_legs.txt");
+  CollisionParams p = compactFootprint();
+  p.footprint_margin_m = CollisionParams{}.footprint_margin_m;  // "auto", as the run had
+  const Planned pl = footprintSpaceOf(f.g, f.robot, p, f.swept);
+  const std::size_t nx = f.g.state.getSizeX();
+  const std::size_t ri = static_cast<std::size_t>(pl.fs.robot.cy) * nx + pl.fs.robot.cx;
+  ASSERT_TRUE(pl.fs.clear.data()[ri] & (YawMask(1) << pl.fs.robot_bin));  // clear where it stands
+  EXPECT_TRUE(pl.fs.escape_boxed_in);
+  EXPECT_LT(pl.fs.escape_margin_m, pl.fs.margin_m);
+  EXPECT_GE(pl.fs.escape_margin_m, -kRes - 1e-9) << "never more than a cell into the squares";
+  std::size_t reached = 0;
+  for (const YawMask m : pl.fs.reach.data()) reached += m != 0;
+  EXPECT_GT(reached, 2000u) << "cells reached (3 before)";
+  // The open floor past the tables' ends, on either side of them.
+  EXPECT_TRUE(reachedAt(pl, f.robot.x() - 1.0, f.robot.y() + 1.4));
+  EXPECT_TRUE(reachedAt(pl, f.robot.x() - 1.0, f.robot.y() - 1.5));
+  EXPECT_TRUE(reachedAt(pl, f.robot.x() - 1.5, f.robot.y()));
+  std::size_t goals = 0;
+  std::string missing;
+  EXPECT_EQ(goalsWithoutPath(pl, f.robot, 7, goals, missing), 0u) << "of " << goals << ":" << missing;
+  EXPECT_GT(goals, 40u);
+  // Every pose of a path out keeps the bare body off the occupied squares
+  // but the ones within a cell of the body's start (the escape's thinner
+  // margin): at most a cell's overlap, and only while leaving.
+  const auto path = planFootprintPath(pl.cs, pl.fs, f.robot, {f.robot.x() - 1.5, f.robot.y()}, 0.0,
+                                      PathParams{});
+  ASSERT_TRUE(path);
+  const Eigen::Vector2d last = path->waypoints.back();
+  EXPECT_FALSE(clipsAWall(f.g, CPose2D(last.x(), last.y(), path->yaws.back()), 0.25, 0.18));
+}
