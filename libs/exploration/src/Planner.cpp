@@ -278,17 +278,10 @@ PlanResult plan(
     }
     r.ms.tour = 1e3 * tic.Tac();
   }
-  else if (p.strategy == Strategy::NextBestView && p.sampling.small_pocket_m2 > 0)
-  {
-    // Small pockets later (SamplingParams::small_pocket_m2); the nearest
-    // strategy, the baseline, keeps the travel distance alone.
-    for (const Frontier& f : fm->frontiers) rank.push_back(p.sampling.pocketOrderDistance(f));
-  }
-  const std::vector<double>* ranked = rank.empty() ? nullptr : &rank;
   while (r.done == DoneReason::None)
   {
     const auto fi = chooseFrontier(fm->frontiers, order, blacklist, r.skipped_frontiers,
-                                   ranked, in_room.empty() ? nullptr : &in_room);
+                                   by_tour ? &rank : nullptr, in_room.empty() ? nullptr : &in_room);
     if (!fi)
     {
       r.done = r.skipped_frontiers.empty() ? DoneReason::NoReachableFrontier : DoneReason::AllSkipped;
@@ -333,7 +326,7 @@ PlanResult plan(
       while (batch.size() < static_cast<std::size_t>(p.sampling.frontiers_rated))
       {
         const auto fj = chooseFrontier(fm->frontiers, order, blacklist, skip,
-                                       ranked, in_room.empty() ? nullptr : &in_room);
+                                       by_tour ? &rank : nullptr, in_room.empty() ? nullptr : &in_room);
         if (!fj) break;
         skip.push_back(*fj);
         if (!approached(*fj)) batch.push_back(*fj);

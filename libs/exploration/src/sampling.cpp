@@ -117,8 +117,6 @@ void SamplingParams::loadFromConfigFile(const mrpt::config::CConfigFileBase& c,
   MRPT_LOAD_CONFIG_VAR(judge_opening, bool, c, s);
   MRPT_LOAD_CONFIG_VAR(judge_opening_min_unknown_m2, double, c, s);
   MRPT_LOAD_CONFIG_VAR(enclosed_unknown_m2, double, c, s);
-  MRPT_LOAD_CONFIG_VAR(small_pocket_m2, double, c, s);
-  MRPT_LOAD_CONFIG_VAR(small_pocket_factor, double, c, s);
   MRPT_LOAD_CONFIG_VAR(travel_cost_per_m, double, c, s);
   MRPT_LOAD_CONFIG_VAR(frontiers_rated, int, c, s);
   MRPT_LOAD_CONFIG_VAR(retire_looks, int, c, s);
@@ -137,8 +135,6 @@ void SamplingParams::loadFromConfigFile(const mrpt::config::CConfigFileBase& c,
   requireValid(view_standoff_m >= 0, c, s, "view_standoff_m", "must be >= 0");
   requireValid(judge_opening_min_unknown_m2 >= 0, c, s, "judge_opening_min_unknown_m2", "must be >= 0");
   requireValid(enclosed_unknown_m2 >= 0, c, s, "enclosed_unknown_m2", "must be >= 0");
-  requireValid(small_pocket_m2 >= 0, c, s, "small_pocket_m2", "must be >= 0");
-  requireValid(small_pocket_factor >= 1, c, s, "small_pocket_factor", "must be >= 1");
   requireValid(travel_cost_per_m >= 0, c, s, "travel_cost_per_m", "must be >= 0");
   requireValid(frontiers_rated >= 1, c, s, "frontiers_rated", "must be >= 1");
   requireValid(retire_looks >= 0, c, s, "retire_looks", "must be >= 0");
@@ -162,8 +158,6 @@ void SamplingParams::saveToConfigFile(mrpt::config::CConfigFileBase& c, const st
   MRPT_SAVE_CONFIG_VAR(judge_opening, c, s);
   MRPT_SAVE_CONFIG_VAR(judge_opening_min_unknown_m2, c, s);
   MRPT_SAVE_CONFIG_VAR(enclosed_unknown_m2, c, s);
-  MRPT_SAVE_CONFIG_VAR(small_pocket_m2, c, s);
-  MRPT_SAVE_CONFIG_VAR(small_pocket_factor, c, s);
   MRPT_SAVE_CONFIG_VAR(travel_cost_per_m, c, s);
   MRPT_SAVE_CONFIG_VAR(frontiers_rated, c, s);
   MRPT_SAVE_CONFIG_VAR(retire_looks, c, s);

@@ -318,21 +318,6 @@ struct SamplingParams : public mrpt::config::CLoadableOptions
   /// not chosen: the robot crossed the building for such slivers after the
   /// rooms were seen (issue 12's tail). 0 = every frontier (thesis) [m^2].
   double enclosed_unknown_m2 = 0;
-  /// Next-best-view, frontier_order = nearest: a frontier bordering less
-  /// open unknown than this (Frontier::unknown_m2, a closed pocket) is
-  /// ordered as if small_pocket_factor times as far: a room's frontier a
-  /// little farther goes first, a pocket beside the robot still does (b8
-  /// compact nbv, seed 2: at coverage 0.948 a 0.3 m^2 pocket 24.7 m away
-  /// went before an unseen room's frontiers 25.7-32 m away the other way;
-  /// 20 m for nothing, then 41 m back). Unlike enclosed_unknown_m2 no
-  /// frontier is left out. 0 = the travel distance alone (thesis) [m^2].
-  double small_pocket_m2 = 0;
-  double small_pocket_factor = 3.0;  ///< see small_pocket_m2, >= 1
-  /// @brief The distance small_pocket_m2 orders frontier f by [m].
-  double pocketOrderDistance(const Frontier& f) const
-  {
-    return f.unknown_m2 < small_pocket_m2 ? small_pocket_factor * f.distance_m : f.distance_m;
-  }
   /// An open unknown cell of G that this many stops looked at (FrontierLooks:
   /// in 2D sight over Free cells within look_range_m, its band in a
   /// camera's view) and left unknown, in a closed pocket of open unknown
