@@ -554,7 +554,13 @@ TEST(FootprintSpace, ARobotWithinTheMarginOfAWallEscapesWithoutClipping)
   paint(g, -2.8, 2.8, -1.5, 1.5, GroundState::Free);
   const CPose2D start(0.0, 1.5 - 0.5 * kWidth - 0.01, 0.0);
   ASSERT_FALSE(clipsAWall(g, start));
-  const Planned pl = footprintSpaceOf(g, start);
+  // On whole squares without the sideways shift, as the case was found:
+  // the defaults since (half squares, footprint_lateral_m) clear this start
+  // outright. (The check below held vacuously until the forty-eighth
+  // session: escape_margin_m was left 0 when no escape ran.)
+  const Planned pl = footprintSpaceOf(g, start, omniRobWholeBin());
+  const std::size_t ri = static_cast<std::size_t>(pl.fs.robot.cy) * g.state.getSizeX() + pl.fs.robot.cx;
+  ASSERT_FALSE(pl.fs.clear.data()[ri] & (YawMask(1) << pl.fs.robot_bin)) << "blocked where it stands";
   EXPECT_LT(pl.fs.escape_margin_m, pl.fs.margin_m);
   EXPECT_TRUE(reachedAt(pl, 0.0, -0.5));
   const auto path = planFootprintPath(pl.cs, pl.fs, start, {0.0, -0.5}, 0.0, PathParams{});
@@ -1230,7 +1236,7 @@ TEST(FootprintSpace, AStartOnACellBorderStartsAtTheSpacesRobotCell)
   expectNeverClips(g, *shared);
 }
 
-TEST(FootprintSpace, ARobotBetweenTableLegsEscapesAtAThinnerMargin)
+TEST(FootprintSpace, ARobotBetweenTableLegsWhoseReachIsShorterThanItsBodyEscapes)
 {
   // b7, compact robot, nbv, seed 2 (a real map, the defaults: "auto"
   // margin 5 cm): a drive ended with the robot between two tables' leg
@@ -1250,8 +1256,7 @@ TEST(FootprintSpace, ARobotBetweenTableLegsEscapesAtAThinnerMargin)
   const std::size_t ri = static_cast<std::size_t>(pl.fs.robot.cy) * nx + pl.fs.robot.cx;
   ASSERT_TRUE(pl.fs.clear.data()[ri] & (YawMask(1) << pl.fs.robot_bin));  // clear where it stands
   EXPECT_TRUE(pl.fs.escape_boxed_in);
-  EXPECT_LT(pl.fs.escape_margin_m, pl.fs.margin_m);
-  EXPECT_GE(pl.fs.escape_margin_m, -kRes - 1e-9) << "never more than a cell into the squares";
+  EXPECT_EQ(pl.fs.escape_margin_m, pl.fs.margin_m);
   std::size_t reached = 0;
   for (const YawMask m : pl.fs.reach.data()) reached += m != 0;
   EXPECT_GT(reached, 2000u) << "cells reached (3 before)";
@@ -1263,9 +1268,7 @@ TEST(FootprintSpace, ARobotBetweenTableLegsEscapesAtAThinnerMargin)
   std::string missing;
   EXPECT_EQ(goalsWithoutPath(pl, f.robot, 7, goals, missing), 0u) << "of " << goals << ":" << missing;
   EXPECT_GT(goals, 40u);
-  // Every pose of a path out keeps the bare body off the occupied squares
-  // but the ones within a cell of the body's start (the escape's thinner
-  // margin): at most a cell's overlap, and only while leaving.
+  // A path out; the body (0.50 x 0.36 m) at its end clips no wall square.
   const auto path = planFootprintPath(pl.cs, pl.fs, f.robot, {f.robot.x() - 1.5, f.robot.y()}, 0.0,
                                       PathParams{});
   ASSERT_TRUE(path);

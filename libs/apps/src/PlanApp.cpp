@@ -259,6 +259,13 @@ exploration::PlanResult PlanApp::execute(const PlanOptions& o, std::ostream& out
                       static_cast<unsigned long long>(in.step + 1), in.robot.x(), in.robot.y(),
                       mrpt::RAD2DEG(in.robot.phi()), in.blacklist.size(), in.sensed_obstacles.size(),
                       in.low_obstacles.size(), in.approach.size(), in.swept.size(), r.footprint ? "footprint" : "circle");
+  if (r.footprint && (r.footprint->escape_boxed_in || r.footprint->escape_ignored_occupied ||
+                      r.footprint->escape_margin_m < r.footprint->margin_m))
+    out << mrpt::format("footprint escape from the robot's state: %s, margin %.3f m (planned with %.3f m)\n",
+                        r.footprint->escape_ignored_occupied ? "occupied cells under the body ignored"
+                        : r.footprint->escape_boxed_in       ? "boxed in"
+                                                             : "start within the margin",
+                        r.footprint->escape_margin_m, r.footprint->margin_m);
   if (r.rooms)
     out << mrpt::format("rooms: %zu, the robot's %d\n", r.rooms->area_m2.size(),
                         static_cast<int>(r.robot_room));

@@ -65,6 +65,7 @@ void FootprintLayers::reachFromRobot() const
   // through clear_occ states to the nearest clear ones.
   fs.robot = g.robot;
   fs.robot_bin = fs.binOf(robot.phi());
+  fs.escape_margin_m = fs.margin_m;  // less only where an escape needs it
   const std::size_t ri = static_cast<std::size_t>(g.robot.cy) * nx + g.robot.cx;
   const YawMask own = YawMask(1) << fs.robot_bin;
   std::deque<int> queue;
@@ -189,54 +190,26 @@ void FootprintLayers::reachFromRobot() const
       reached += reach[i] != 0;
       turns = turns || (reach[i] & canTurn(i));
     }
-    // A reach shorter than the body is boxed in too, turnable or not: b7
-    // compact, nbv, seed 2 (below) reached 3 cells, two of them turnable
-    // between the robot's bin and the next.
+    // A reach shorter than the body is boxed in too, turnable or not (b7
+    // compact, nbv, seed 2: a drive ended between two tables' leg groups
+    // 0.55-0.6 m apart; the robot's bin reached 3 cells, two of them
+    // turnable between that bin and the next only, and all 146 m^2 of known
+    // floor were cut off: "the map shut the robot in" at coverage 0.40).
     const std::size_t body_cells = static_cast<std::size_t>(std::ceil(fs.length_m / res));
     if (!turns || reached < body_cells)
     {
-      // The escape looks for turnable states the reach does not hold.
+      // The escape goes on to turnable states the reach does not hold.
       std::vector<YawMask> turning(n);
       for (std::size_t i = 0; i < n; ++i) turning[i] = canTurn(i) & ~reach[i];
-      const auto escapeThrough = [&](const YawMask* allowed) {
-        std::fill(escape, escape + n, YawMask(0));
-        escape[ri] = fs.turnClosure(own, allowed[ri]);
-        std::deque<int> q{static_cast<int>(ri)};
-        flood(fs, escape, allowed, allowed, q, nx, ny, turning.data());
-        for (std::size_t i = 0; i < n; ++i)
-          if (escape[i] & turning[i]) return true;
-        return false;
-      };
-      bool found = escapeThrough(clear_occ);
-      // Nothing turnable through states clear by the margin: the margin
-      // shrinks in half-cell steps down to -1 cell (the occupied squares are
-      // up to a cell larger than what the cameras saw), as the escape of a
-      // start that is not clear does. b7 compact, nbv, seed 2: a drive ended
-      // between two tables' leg groups 0.55-0.6 m apart (the body 0.36 m
-      // wide, 2.8 cm from the nearest leg); with the margin on the legs'
-      // squares the robot's bin reached 3 cells, none turnable, and all
-      // 146 m^2 of known floor were cut off ('the map shut the robot in' at
-      // coverage 0.40). The guard still holds the body off every sensed
-      // point by its own margin.
-      std::vector<YawMask> shrunk, shrunk_allowed;
-      for (int k = 1; !found && fs.margin_m - 0.5 * k * res >= -res - 1e-9; ++k)
-      {
-        const double m = fs.margin_m - 0.5 * k * res;
-        shrunk.assign(n, 0);
-        stampAt(shrunk.data(), nullptr, occ_border, nx, ny,
-                toRows(makeStamp(0.5 * fs.length_m, 0.5 * fs.width_m, m, res, fs.bins, share, span),
-                       nullptr));
-        shrunk_allowed.assign(n, 0);
-        for (std::size_t i = 0; i < n; ++i) shrunk_allowed[i] = !occ[i] ? all & ~shrunk[i] : 0;
-        shrunk_allowed[ri] |= own;
-        found = escapeThrough(shrunk_allowed.data());
-        if (found) fs.escape_margin_m = m;
-      }
-      if (!found) escapeThrough(clear_occ);  // as before: the states clear by the margin
+      escape[ri] = fs.turnClosure(own, clear_occ[ri]);
+      std::deque<int> q{static_cast<int>(ri)};
+      flood(fs, escape, clear_occ, clear_occ, q, nx, ny, turning.data());
+      bool found = false;
       for (std::size_t i = 0; i < n; ++i)
       {
         const YawMask s = escape[i] & turning[i];
         if (!s) continue;
+        found = true;
         escape[i] &= ~clear_turn[i];
         const YawMask fresh = (s | fs.turnClosure(s, clear_turn[i])) & ~reach[i];
         if (!fresh) continue;

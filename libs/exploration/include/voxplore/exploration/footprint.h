@@ -52,16 +52,17 @@ struct FootprintSpace
   /// search follows every state the reach holds).
   Grid<YawMask> escape;
   /// The margin the escape keeps from occupied cells [m]: margin_m, or less
-  /// (down to -2 cells) when the start state is within margin_m of one.
+  /// (down to -2 cells) when the start state is within margin_m of one, or
+  /// (down to -1 cell) when boxed in with nothing turnable at margin_m.
   double escape_margin_m = 0;
   /// The start was blocked even 2 cells inside the margin (occupied cells
   /// under the body: a pose or map error of decimetres): the escape ignored
   /// the occupied cells under the rectangle at the robot's pose.
   bool escape_ignored_occupied = false;
-  /// The start was clear but boxed in (not turnable, and no turnable state
-  /// reached through clear ones): the escape went through states clear of
-  /// occupied cells by margin_m, turning without turn_margin_m, up to the
-  /// first turnable state.
+  /// The start was clear but boxed in (no turnable state reached through
+  /// clear ones, or a reach shorter than the body): the escape went through
+  /// states clear of occupied cells by escape_margin_m, turning without
+  /// turn_margin_m, up to the first turnable state not reached.
   bool escape_boxed_in = false;
   Cell robot;         ///< the robot's cell
   int robot_bin = 0;  ///< the bin of the robot's yaw
