@@ -183,19 +183,19 @@ void FootprintLayers::reachFromRobot() const
   };
   if (clear[ri] & own)
   {
-    bool turns = false;
-    std::size_t reached = 0;
-    for (std::size_t i = 0; i < n; ++i)
-    {
-      reached += reach[i] != 0;
-      turns = turns || (reach[i] & canTurn(i));
-    }
     // A reach shorter than the body is boxed in too, turnable or not (b7
     // compact, nbv, seed 2: a drive ended between two tables' leg groups
     // 0.55-0.6 m apart; the robot's bin reached 3 cells, two of them
     // turnable between that bin and the next only, and all 146 m^2 of known
     // floor were cut off: "the map shut the robot in" at coverage 0.40).
     const std::size_t body_cells = static_cast<std::size_t>(std::ceil(fs.length_m / res));
+    bool turns = false;
+    std::size_t reached = 0;
+    for (std::size_t i = 0; i < n && !(turns && reached >= body_cells); ++i)
+    {
+      reached += reach[i] != 0;
+      turns = turns || (reach[i] & canTurn(i));
+    }
     if (!turns || reached < body_cells)
     {
       // The escape goes on to turnable states the reach does not hold.

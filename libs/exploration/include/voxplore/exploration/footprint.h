@@ -52,8 +52,7 @@ struct FootprintSpace
   /// search follows every state the reach holds).
   Grid<YawMask> escape;
   /// The margin the escape keeps from occupied cells [m]: margin_m, or less
-  /// (down to -2 cells) when the start state is within margin_m of one, or
-  /// (down to -1 cell) when boxed in with nothing turnable at margin_m.
+  /// (down to -2 cells) when the start state is within margin_m of one.
   double escape_margin_m = 0;
   /// The start was blocked even 2 cells inside the margin (occupied cells
   /// under the body: a pose or map error of decimetres): the escape ignored
