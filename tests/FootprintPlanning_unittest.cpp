@@ -1244,9 +1244,8 @@ TEST(FootprintSpace, ARobotBetweenTableLegsWhoseReachIsShorterThanItsBodyEscapes
   // were turnable into the next bin, so it was not "boxed in"; but nothing
   // else was reached: all 146 m^2 of known floor cut off, 'the map shut the
   // robot in' at coverage 0.40. The body passes there (the simulator's
-  // clearance 2.8 cm); the legs' squares, with the margin, do not let it.
-  // A reach shorter than the body escapes, at a thinner margin if the
-  // margin's states lead nowhere turnable.
+  // clearance 2.8 cm). A reach shorter than the body is boxed in: it
+  // escapes, at the margin, to turnable states it did not hold.
   GroundFixture f = loadGroundFixture(voxplore::test::sourceDir() +
                                       "/tests/data/footprint_b7_between_table_legs.txt");
   CollisionParams p = compactFootprint();

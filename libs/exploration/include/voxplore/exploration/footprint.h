@@ -60,7 +60,7 @@ struct FootprintSpace
   bool escape_ignored_occupied = false;
   /// The start was clear but boxed in (no turnable state reached through
   /// clear ones, or a reach shorter than the body): the escape went through
-  /// states clear of occupied cells by escape_margin_m, turning without
+  /// states clear of occupied cells by margin_m, turning without
   /// turn_margin_m, up to the first turnable state not reached.
   bool escape_boxed_in = false;
   Cell robot;         ///< the robot's cell
