@@ -82,6 +82,12 @@ struct LoopClosureParams : public mrpt::config::CLoadableOptions
   /// keyframes wait (within confirm_within). 0 and 0 = off.
   double confirm_min_move_m = 0.0;  ///< [m]
   double confirm_min_turn = 0.0;    ///< [rad] (ini: deg)
+  /// A consistent match (the registration against the metaview has already
+  /// carried the estimate onto the old map) that agrees with a waiting
+  /// candidate confirms it, and the loop closes: the stretch that drifted
+  /// before the candidate is relaxed. false = a consistent match adds its
+  /// edge only, and the candidate waits for a correcting match.
+  bool confirm_when_consistent = true;
   /// The maps are rebuilt from the keyframes when a relaxation moved a
   /// keyframe by more than this [m] (or yaw x 3 m by more than it).
   double rebuild_min_shift_m = 0.02;
@@ -204,6 +210,20 @@ class LoopCloser
                                              double max_travel, const IcpParams& p) const;
   void addLoopEdge(std::size_t anchor, std::size_t kf, const mrpt::poses::CPose2D& matched,
                    const IcpResult& reg);
+  struct Agreement
+  {
+    bool agrees = false;
+    double err_m = 0, err_yaw = 0;  ///< [m], [rad]
+  };
+  /// Does the newest keyframe `cur`, matched at `matched`, agree with the
+  /// candidate carried forward by the odometry (confirm_xy_m, confirm_per_m,
+  /// confirm_yaw)?
+  Agreement agreement(const Pending& pending, const Keyframe& cur,
+                      const mrpt::poses::CPose2D& matched) const;
+  /// Closes the waiting candidate: its edge, then `match`'s (to the newest
+  /// keyframe from `anchor`) unless null, then the relaxation; fills ev's
+  /// closure fields and returns the largest and mean shift [m].
+  std::pair<double, double> closePending(LoopEvent& ev, const IcpResult* match, std::size_t anchor);
   /// Has a keyframe that moved `moved` (odometry) since the candidate
   /// moved or turned enough to confirm it (confirm_min_move_m / _turn)?
   bool independentOf(const mrpt::poses::CPose2D& moved) const;
