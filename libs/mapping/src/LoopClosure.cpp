@@ -309,8 +309,7 @@ LoopCloser::Agreement LoopCloser::agreement(const Pending& pending, const Keyfra
   return a;
 }
 
-std::pair<double, double> LoopCloser::closePending(LoopEvent& ev, const IcpResult* match,
-                                                  std::size_t anchor)
+void LoopCloser::closePending(LoopEvent& ev, const IcpResult* match, std::size_t anchor)
 {
   addLoopEdge(pending_->anchor, pending_->kf, pending_->matched, pending_->reg);
   if (match)
@@ -332,12 +331,11 @@ std::pair<double, double> LoopCloser::closePending(LoopEvent& ev, const IcpResul
   }
   pending_.reset();
   mrpt::system::CTicTac tic;
-  const auto shift = optimize();
+  const auto [max_shift, mean_shift] = optimize();
   ev.t_optimize_ms = 1e3 * tic.Tac();
   ev.closed = true;
-  ev.graph_shift_max_m = shift.first;
-  ev.graph_shift_mean_m = shift.second;
-  return shift;
+  ev.graph_shift_max_m = max_shift;
+  ev.graph_shift_mean_m = mean_shift;
 }
 
 LoopEvent LoopCloser::addKeyframe(std::size_t stop, const CPose2D& pose, const CPose2D& odometry,
@@ -405,13 +403,12 @@ LoopEvent LoopCloser::addKeyframe(std::size_t stop, const CPose2D& pose, const C
         ev.with_stop = keyframes_[pending_->anchor].stop;
         ev.correction_m = xyDist(pending_->matched, pk.pose);
         ev.correction_yaw = yawDiff(pending_->matched, pk.pose);
-        const auto [max_shift, mean_shift] = closePending(ev, nullptr, anchor);
-        (void)mean_shift;
+        closePending(ev, nullptr, anchor);
         msg << "; loop closed with stop " << ev.with_stop << " (stop " << first_stop
             << "'s candidate, correction " << ev.correction_m << " m, "
             << mrpt::RAD2DEG(ev.correction_yaw) << " deg; this match agrees with it within "
-            << a.err_m << " m, " << mrpt::RAD2DEG(a.err_yaw) << " deg); graph moved " << max_shift
-            << " m at most";
+            << a.err_m << " m, " << mrpt::RAD2DEG(a.err_yaw) << " deg); graph moved "
+            << ev.graph_shift_max_m << " m at most";
       }
       else
         msg << "; loop candidate at stop " << first_stop << " disagrees with it by " << a.err_m
@@ -436,11 +433,10 @@ LoopEvent LoopCloser::addKeyframe(std::size_t stop, const CPose2D& pose, const C
     if (a.agrees)
     {
       const std::size_t first_stop = pk.stop;
-      const auto [max_shift, mean_shift] = closePending(ev, &*m, anchor);
-      (void)mean_shift;
+      closePending(ev, &*m, anchor);
       msg << "loop closed with stop " << ev.with_stop << " (correction " << ev.correction_m
           << " m, " << mrpt::RAD2DEG(ev.correction_yaw) << " deg; confirmed by stop "
-          << first_stop << anchorNote(ev) << "); graph moved " << max_shift << " m at most";
+          << first_stop << anchorNote(ev) << "); graph moved " << ev.graph_shift_max_m << " m at most";
       ev.message = msg.str();
       return ev;
     }

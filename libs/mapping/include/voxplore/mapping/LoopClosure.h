@@ -221,9 +221,10 @@ class LoopCloser
   Agreement agreement(const Pending& pending, const Keyframe& cur,
                       const mrpt::poses::CPose2D& matched) const;
   /// Closes the waiting candidate: its edge, then `match`'s (to the newest
-  /// keyframe from `anchor`) unless null, then the relaxation; fills ev's
-  /// closure fields and returns the largest and mean shift [m].
-  std::pair<double, double> closePending(LoopEvent& ev, const IcpResult* match, std::size_t anchor);
+  /// keyframe from `anchor`) unless null (then the edges since the
+  /// candidate become odometry edges), then the relaxation; fills ev's
+  /// closure fields (closed, graph shift, optimisation time).
+  void closePending(LoopEvent& ev, const IcpResult* match, std::size_t anchor);
   /// Has a keyframe that moved `moved` (odometry) since the candidate
   /// moved or turned enough to confirm it (confirm_min_move_m / _turn)?
   bool independentOf(const mrpt::poses::CPose2D& moved) const;
