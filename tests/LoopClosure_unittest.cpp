@@ -728,3 +728,52 @@ TEST(LoopClosure, AMatchMustHoldAgainstItsAnchorsOwnPass)
   EXPECT_GT(*std::max_element(blind.begin(), blind.end()), 0.12);
   EXPECT_EQ(msg_blind.find("own pass moves the match"), std::string::npos);
 }
+
+TEST(LoopClosure, AMatchThatSlidesAlongACorridorIsFoundByTheProbe)
+{
+  // A corridor along x whose only cross features are a few fins: the scene
+  // fixes y well and x weakly (information ratio under probe_ratio). The
+  // submap of a right pass holds each fin once; one with a drifted pass
+  // too holds every fin twice, 0.2 m apart (b3 compact nearest seed 3: the
+  // stops of a stretch mapped 0.12 m off along a hall's long wall), and
+  // there ICP ends wherever it starts along x.
+  Scene right;
+  right.wall(-2, 0, 30, 0);
+  right.wall(-2, 2.5, 30, 2.5);
+  const std::vector<double> fins = {3.1, 5.6, 8.7, 11.1, 13.4, 15.9, 17.9};
+  for (const double x : fins) right.box(x, 0, 0.4, 0.6);
+  Scene twice = right;
+  for (const double x : fins) twice.box(x + 0.2, 0, 0.4, 0.6);
+  const CPose2D truth(10.0, 1.25, 0.0);
+  const auto cloud = right.cloudAt(truth);
+  auto submapOf = [](const Scene& s)
+  {
+    mrpt::maps::CSimplePointsMap m;
+    for (const auto& p : s.pts) m.insertPointFast(float(p.x()), float(p.y()), 0.f);
+    m.mark_as_modified();
+    return m;
+  };
+  IcpParams p;
+  p.max_correction_xy_m = 0.6;
+  const CPose2D estimate(10.12, 1.25, 0.0);  // the drifted estimate
+  const LoopClosureParams lcp;
+  for (const bool drifted_pass : {false, true})
+  {
+    const auto submap = submapOf(drifted_pass ? twice : right);
+    const IcpResult m = voxplore::mapping::alignPlanar(submap, cloud, estimate, p);
+    ASSERT_TRUE(m.accepted) << m.reason;
+    EXPECT_GT(m.info_ratio, p.degeneracy_ratio) << "not degenerate";
+    EXPECT_LT(m.info_ratio, lcp.probe_ratio) << "weak along x: probed";
+    const double slide = voxplore::mapping::slideAlongWeak(submap, nullptr, cloud, estimate, m, p, lcp.probe_m);
+    std::cout << (drifted_pass ? "fins twice" : "fins once") << ": match " << m.pose.x() - truth.x()
+              << " m off along x, ratio " << m.info_ratio << ", probes end up to " << slide
+              << " m from it" << std::endl;
+    if (drifted_pass)
+      EXPECT_GT(slide, lcp.probe_tol_m);
+    else
+    {
+      EXPECT_LT(std::abs(m.pose.x() - truth.x()), 0.01);
+      EXPECT_LE(slide, lcp.probe_tol_m);
+    }
+  }
+}

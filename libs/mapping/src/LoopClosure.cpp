@@ -39,6 +39,9 @@ void LoopClosureParams::loadFromConfigFile(const mrpt::config::CConfigFileBase& 
   MRPT_LOAD_CONFIG_VAR_DEGREES(max_window_yaw, c, s);
   MRPT_LOAD_CONFIG_VAR(min_goodness, double, c, s);
   MRPT_LOAD_CONFIG_VAR(margin, double, c, s);
+  MRPT_LOAD_CONFIG_VAR(probe_ratio, double, c, s);
+  MRPT_LOAD_CONFIG_VAR(probe_m, double, c, s);
+  MRPT_LOAD_CONFIG_VAR(probe_tol_m, double, c, s);
   MRPT_LOAD_CONFIG_VAR(consistent_m, double, c, s);
   MRPT_LOAD_CONFIG_VAR_DEGREES(consistent_yaw, c, s);
   MRPT_LOAD_CONFIG_VAR(confirm_within, int, c, s);
@@ -80,6 +83,9 @@ void LoopClosureParams::loadFromConfigFile(const mrpt::config::CConfigFileBase& 
                "must be >= 0 and <= max_window_yaw");
   requireValid(min_goodness > 0 && min_goodness <= 1, c, s, "min_goodness", "must be in (0, 1]");
   requireValid(margin >= 0 && margin < 1, c, s, "margin", "must be in [0, 1)");
+  requireValid(probe_ratio >= 0 && probe_ratio <= 1, c, s, "probe_ratio", "must be in [0, 1] (0 = off)");
+  requireValid(probe_m > 0 && probe_tol_m > 0 && probe_tol_m < probe_m, c, s, "probe_m",
+               "probe_m and probe_tol_m must be > 0 m, probe_tol_m < probe_m");
   requireValid(confirm_within >= 1, c, s, "confirm_within", "must be >= 1");
   requireValid(confirm_min_move_m >= 0, c, s, "confirm_min_move_m", "must be >= 0");
   requireValid(confirm_min_turn >= 0, c, s, "confirm_min_turn", "must be >= 0");
@@ -114,6 +120,9 @@ void LoopClosureParams::saveToConfigFile(mrpt::config::CConfigFileBase& c, const
   MRPT_SAVE_CONFIG_VAR_DEGREES(max_window_yaw, c, s);
   MRPT_SAVE_CONFIG_VAR(min_goodness, c, s);
   MRPT_SAVE_CONFIG_VAR(margin, c, s);
+  MRPT_SAVE_CONFIG_VAR(probe_ratio, c, s);
+  MRPT_SAVE_CONFIG_VAR(probe_m, c, s);
+  MRPT_SAVE_CONFIG_VAR(probe_tol_m, c, s);
   MRPT_SAVE_CONFIG_VAR(consistent_m, c, s);
   MRPT_SAVE_CONFIG_VAR_DEGREES(consistent_yaw, c, s);
   MRPT_SAVE_CONFIG_VAR(confirm_within, c, s);
@@ -446,7 +455,8 @@ LoopEvent LoopCloser::addKeyframe(std::size_t stop, const CPose2D& pose, const C
   pending_ = Pending{k, anchor, m->pose, *m};
   ev.candidate = true;
   msg << "loop candidate with stop " << ev.with_stop << " (correction " << ev.correction_m
-      << " m, goodness " << m->goodness << anchorNote(ev) << "), to be confirmed";
+      << " m, goodness " << m->goodness << ", information ratio " << m->info_ratio
+      << anchorNote(ev) << "), to be confirmed";
   ev.message = msg.str();
   return ev;
 }

@@ -107,6 +107,16 @@ std::optional<IcpResult> LoopCloser::match(LoopEvent& ev, std::size_t& anchor)
     ev.message = "no loop: " + (r.degenerate ? std::string("degenerate match") : r.reason);
     return std::nullopt;
   }
+  // A correcting match with lopsided information must hold along its weak
+  // direction (probe_ratio). Not a consistent one that would confirm a
+  // waiting candidate: the candidate was probed, and consistent matches
+  // there slid while right (b2 compact nearest, b3 compact nbv seed 3).
+  if (!consistent(r.pose, cur.pose))
+    if (const auto why = slidesAlongWeak(submap, views, r, p))
+    {
+      ev.message = "no loop: " + *why;
+      return std::nullopt;
+    }
   // The old keyframe nearest to the matched pose anchors the edge.
   double dmin = 1e9;
   for (std::size_t i = 0; i + 1 < keyframes_.size() && keyframes_[i].travel_m <= pass_hi; i++)
@@ -125,6 +135,41 @@ std::optional<IcpResult> LoopCloser::match(LoopEvent& ev, std::size_t& anchor)
       return std::nullopt;
     }
   return r;
+}
+
+double slideAlongWeak(const mrpt::maps::CPointsMap& submap, const Viewpoints* views,
+                      const mrpt::maps::CPointsMap& cloud_robot, const CPose2D& prediction,
+                      const IcpResult& match, const IcpParams& p, double probe_m)
+{
+  if (!(match.degenerate_dir.norm() > 0.5)) return std::numeric_limits<double>::infinity();  // no direction
+  const Eigen::Vector2d w = match.degenerate_dir.normalized();
+  double worst = 0;
+  for (const double side : {-1.0, 1.0})
+  {
+    const CPose2D start(match.pose.x() + side * probe_m * w.x(),
+                        match.pose.y() + side * probe_m * w.y(), match.pose.phi());
+    // Where ICP converges from there (icp_pose: also when it is refused).
+    const IcpResult q = alignPlanar(submap, cloud_robot, prediction, p, views, 0.0, &start);
+    worst = std::max(worst, xyDist(q.icp_pose, match.pose));
+  }
+  return worst;
+}
+
+std::optional<std::string> LoopCloser::slidesAlongWeak(const mrpt::maps::CPointsMap& submap,
+                                                        const Viewpoints& views, const IcpResult& r,
+                                                        const IcpParams& p) const
+{
+  if (r.info_ratio >= params_.probe_ratio) return std::nullopt;
+  const Keyframe& cur = keyframes_.back();
+  const double worst = slideAlongWeak(submap, &views, cur.cloud, cur.pose, r, p, params_.probe_m);
+  if (worst <= params_.probe_tol_m) return std::nullopt;
+  const Eigen::Vector2d w = r.degenerate_dir.normalized();
+  std::ostringstream why;
+  why.precision(3);
+  why << "the match slides along (" << w.x() << ", " << w.y() << ") (information ratio "
+      << r.info_ratio << "): registered from " << params_.probe_m
+      << " m either side there it ends up to " << worst << " m from it";
+  return why.str();
 }
 
 bool LoopCloser::consistent(const CPose2D& matched, const CPose2D& estimate) const

@@ -61,6 +61,19 @@ struct LoopClosureParams : public mrpt::config::CLoadableOptions
   double min_goodness = 0.8;      ///< share of the cloud paired with the submap within d_max_final_m
   /// Ambiguity: no distinct pose may come within this goodness of the best.
   double margin = 0.15;
+  /// A correcting match whose translational information is lopsided
+  /// (smallest / largest eigenvalue of its point-to-line J^T J,
+  /// IcpResult::info_ratio, under probe_ratio) fixes the pose well across
+  /// one direction only (a corridor, a hall's long wall) and is probed along
+  /// the other: registered again from probe_m either side of it there, both
+  /// must come back within probe_tol_m of it, else there is no loop (the
+  /// cost is flat there and the match stays wherever it started: b3
+  /// compact nearest seed 3, matches 0.16 and 0.21 m off along a wall at
+  /// ratios 0.08 and 0.10, one confirming the other, and against the old
+  /// stop's own pass too). 0 = off.
+  double probe_ratio = 0.3;
+  double probe_m = 0.15;       ///< [m]
+  double probe_tol_m = 0.025;  ///< [m]
   /// A match whose correction of the estimate is below this is consistent
   /// with the graph: its edge is added without confirmation and without a
   /// relaxation [m].
@@ -149,6 +162,19 @@ struct LoopEvent
   std::string message;             ///< what happened, for the user (empty: nothing)
 };
 
+/// @brief How far ICP ends up from `match` (a registration of `cloud_robot`
+///        against `submap` from `prediction`) when started `probe_m` either
+///        side of it along its weak translational direction
+///        (IcpResult::degenerate_dir), same yaw: the larger distance [m].
+///        Where the scene fixes the pose along that direction the two come
+///        back onto the match; where the cost is flat there (a corridor
+///        whose only cross features the submap holds twice, from a pass
+///        that drifted) they stay apart. LoopCloser's probe_ratio check.
+///        Infinity when the match has no weak direction (no information).
+double slideAlongWeak(const mrpt::maps::CPointsMap& submap, const Viewpoints* views,
+                      const mrpt::maps::CPointsMap& cloud_robot, const mrpt::poses::CPose2D& prediction,
+                      const IcpResult& match, const IcpParams& p, double probe_m);
+
 /// @brief The keyframes, the pose graph and loop detection. SlamIcp owns
 ///        one; it can be used alone (the benchmark does).
 class LoopCloser
@@ -225,6 +251,10 @@ class LoopCloser
   /// candidate become odometry edges), then the relaxation; fills ev's
   /// closure fields (closed, graph shift, optimisation time).
   void closePending(LoopEvent& ev, const IcpResult* match, std::size_t anchor);
+  /// Why `r` does not hold along its weak direction (probe_ratio), or
+  /// nothing when it holds or is not probed.
+  std::optional<std::string> slidesAlongWeak(const mrpt::maps::CPointsMap& submap, const Viewpoints& views,
+                                             const IcpResult& r, const IcpParams& p) const;
   /// Has a keyframe that moved `moved` (odometry) since the candidate
   /// moved or turned enough to confirm it (confirm_min_move_m / _turn)?
   bool independentOf(const mrpt::poses::CPose2D& moved) const;
