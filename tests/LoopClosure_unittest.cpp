@@ -756,7 +756,8 @@ TEST(LoopClosure, AMatchThatSlidesAlongACorridorIsFoundByTheProbe)
   IcpParams p;
   p.max_correction_xy_m = 0.6;
   const CPose2D estimate(10.12, 1.25, 0.0);  // the drifted estimate
-  const LoopClosureParams lcp;
+  LoopClosureParams lcp;
+  lcp.probe_ratio = 0.3;  // off by default; the value measured in BENCHMARKS.md
   for (const bool drifted_pass : {false, true})
   {
     const auto submap = submapOf(drifted_pass ? twice : right);

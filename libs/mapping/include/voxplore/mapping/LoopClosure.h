@@ -70,8 +70,10 @@ struct LoopClosureParams : public mrpt::config::CLoadableOptions
   /// cost is flat there and the match stays wherever it started: b3
   /// compact nearest seed 3, matches 0.16 and 0.21 m off along a wall at
   /// ratios 0.08 and 0.10, one confirming the other, and against the old
-  /// stop's own pass too). 0 = off.
-  double probe_ratio = 0.3;
+  /// stop's own pass too). 0 = off, the default: online it removed the
+  /// campaign's 4 suspect closures but cost more ATE and map precision
+  /// than they did (BENCHMARKS.md, fiftieth session); 0.3 probes.
+  double probe_ratio = 0.0;
   double probe_m = 0.15;       ///< [m]
   double probe_tol_m = 0.025;  ///< [m]
   /// A match whose correction of the estimate is below this is consistent
