@@ -50,6 +50,14 @@ struct Scene
     wall(x + w, y + h, x, y + h);
     wall(x, y + h, x, y);
   }
+  /// The walls as a 2D map (z = 0), map frame.
+  mrpt::maps::CSimplePointsMap map2d() const
+  {
+    mrpt::maps::CSimplePointsMap m;
+    for (const auto& p : pts) m.insertPointFast(float(p.x()), float(p.y()), 0.f);
+    m.mark_as_modified();
+    return m;
+  }
   /// The robot-frame cloud seen from the true pose: points within range_m.
   mrpt::maps::CSimplePointsMap cloudAt(const CPose2D& truth, double range_m = 6.0) const
   {
@@ -362,9 +370,7 @@ TEST(LoopClosure, TheSubmapOfOnePassLeavesADriftedPassOut)
   // The share of submap points off every true wall by more than 5 cm.
   const auto offWalls = [&](const mrpt::maps::CSimplePointsMap& m)
   {
-    mrpt::maps::CSimplePointsMap walls;
-    for (const auto& q : scene.pts) walls.insertPointFast(float(q.x()), float(q.y()), 0.f);
-    walls.mark_as_modified();
+    const auto walls = scene.map2d();
     std::size_t off = 0;
     for (std::size_t i = 0; i < m.size(); i++)
     {
@@ -746,13 +752,6 @@ TEST(LoopClosure, AMatchThatSlidesAlongACorridorIsFoundByTheProbe)
   for (const double x : fins) twice.box(x + 0.2, 0, 0.4, 0.6);
   const CPose2D truth(10.0, 1.25, 0.0);
   const auto cloud = right.cloudAt(truth);
-  auto submapOf = [](const Scene& s)
-  {
-    mrpt::maps::CSimplePointsMap m;
-    for (const auto& p : s.pts) m.insertPointFast(float(p.x()), float(p.y()), 0.f);
-    m.mark_as_modified();
-    return m;
-  };
   IcpParams p;
   p.max_correction_xy_m = 0.6;
   const CPose2D estimate(10.12, 1.25, 0.0);  // the drifted estimate
@@ -760,7 +759,7 @@ TEST(LoopClosure, AMatchThatSlidesAlongACorridorIsFoundByTheProbe)
   lcp.probe_ratio = 0.3;  // off by default; the value measured in BENCHMARKS.md
   for (const bool drifted_pass : {false, true})
   {
-    const auto submap = submapOf(drifted_pass ? twice : right);
+    const auto submap = (drifted_pass ? twice : right).map2d();
     const IcpResult m = voxplore::mapping::alignPlanar(submap, cloud, estimate, p);
     ASSERT_TRUE(m.accepted) << m.reason;
     EXPECT_GT(m.info_ratio, p.degeneracy_ratio) << "not degenerate";

@@ -107,11 +107,13 @@ std::optional<IcpResult> LoopCloser::match(LoopEvent& ev, std::size_t& anchor)
     ev.message = "no loop: " + (r.degenerate ? std::string("degenerate match") : r.reason);
     return std::nullopt;
   }
+  // Judged on the match taken, which relocalisation may have replaced.
+  const bool correcting = !consistent(r.pose, cur.pose);
   // A correcting match with lopsided information must hold along its weak
   // direction (probe_ratio). Not a consistent one that would confirm a
   // waiting candidate: the candidate was probed, and consistent matches
   // there slid while right (b2 compact nearest, b3 compact nbv seed 3).
-  if (!consistent(r.pose, cur.pose))
+  if (correcting)
     if (const auto why = slidesAlongWeak(submap, views, r, p))
     {
       ev.message = "no loop: " + *why;
@@ -126,9 +128,8 @@ std::optional<IcpResult> LoopCloser::match(LoopEvent& ev, std::size_t& anchor)
       dmin = d;
       anchor = i;
     }
-  // A correcting match (judged on the match taken, which relocalisation may
-  // have replaced) must hold against its anchor's own pass.
-  if (params_.anchor_check_m > 0 && !consistent(r.pose, cur.pose))
+  // A correcting match must hold against its anchor's own pass.
+  if (params_.anchor_check_m > 0 && correcting)
     if (const auto why = anchorDisagrees(ev, r, anchor, pass_hi, p))
     {
       ev.message = "no loop: " + *why;
@@ -141,7 +142,8 @@ double slideAlongWeak(const mrpt::maps::CPointsMap& submap, const Viewpoints* vi
                       const mrpt::maps::CPointsMap& cloud_robot, const CPose2D& prediction,
                       const IcpResult& match, const IcpParams& p, double probe_m)
 {
-  if (!(match.degenerate_dir.norm() > 0.5)) return std::numeric_limits<double>::infinity();  // no direction
+  if (!(match.degenerate_dir.norm() > 0.5))
+    return std::numeric_limits<double>::infinity();  // no direction
   const Eigen::Vector2d w = match.degenerate_dir.normalized();
   double worst = 0;
   for (const double side : {-1.0, 1.0})
@@ -156,14 +158,14 @@ double slideAlongWeak(const mrpt::maps::CPointsMap& submap, const Viewpoints* vi
 }
 
 std::optional<std::string> LoopCloser::slidesAlongWeak(const mrpt::maps::CPointsMap& submap,
-                                                        const Viewpoints& views, const IcpResult& r,
-                                                        const IcpParams& p) const
+                                                       const Viewpoints& views, const IcpResult& r,
+                                                       const IcpParams& p) const
 {
   if (r.info_ratio >= params_.probe_ratio) return std::nullopt;
   const Keyframe& cur = keyframes_.back();
   const double worst = slideAlongWeak(submap, &views, cur.cloud, cur.pose, r, p, params_.probe_m);
   if (worst <= params_.probe_tol_m) return std::nullopt;
-  const Eigen::Vector2d w = r.degenerate_dir.normalized();
+  const Eigen::Vector2d& w = r.degenerate_dir;  // a unit eigenvector (zero: no information)
   std::ostringstream why;
   why.precision(3);
   why << "the match slides along (" << w.x() << ", " << w.y() << ") (information ratio "
