@@ -132,6 +132,10 @@ Eigen::Matrix3d LoopCloser::edgeInformation(const IcpResult* reg, const CPose2D&
   const double lo = 1.0 / (p.edge_max_std_m * p.edge_max_std_m);
   const double hi = 1.0 / (p.edge_min_std_m * p.edge_min_std_m);
   for (int i = 0; i < 2; i++) ev(i) = std::clamp(ev(i), lo, hi);
+  // Lopsided: along the weak direction (the smaller eigenvalue's vector;
+  // the ratio is rotation invariant) the curvature does not bound the error.
+  if (reg->info_ratio < p.weak_ratio)
+    ev(0) = std::min(ev(0), 1.0 / (p.weak_min_std_m * p.weak_min_std_m));
   out.topLeftCorner<2, 2>() = es.eigenvectors() * ev.asDiagonal() * es.eigenvectors().transpose();
   out(2, 2) = std::clamp(local(2, 2), 1.0 / (p.edge_max_std_yaw * p.edge_max_std_yaw),
                          1.0 / (p.edge_min_std_yaw * p.edge_min_std_yaw));
