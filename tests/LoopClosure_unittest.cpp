@@ -486,6 +486,13 @@ TEST(LoopClosure, LopsidedEdgesGetTheWeakStdAlongTheWall)
   EXPECT_NEAR(on(1, 1), 1.0 / (0.05 * 0.05), 1e-6);
   EXPECT_NEAR(on(0, 0), off(0, 0), 1e-9 * off(0, 0));  // across the wall: unchanged
   EXPECT_NEAR(on(2, 2), off(2, 2), 1e-9 * off(2, 2));
+  // Scaled by the registration's shift along the weak direction instead:
+  // a 0.2 m shift gets 0.1 m, a millimetre's keeps the fit's information.
+  p.weak_min_std_m = 0;
+  p.weak_std_per_shift = 0.5;
+  LoopCloser by_shift(p, IcpParams{});
+  EXPECT_NEAR(by_shift.edgeInformation(&r, from, 0.5, -0.2)(1, 1), 1.0 / (0.1 * 0.1), 1e-6);
+  EXPECT_TRUE(by_shift.edgeInformation(&r, from, 0.5, 0.001).isApprox(off));
   // Balanced information (a room's corner) is not touched.
   r.information = Eigen::Vector3d(2e5, 2e5, 1e5).asDiagonal();
   r.info_ratio = 1.0;
