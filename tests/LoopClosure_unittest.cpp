@@ -467,39 +467,6 @@ TEST(LoopClosure, EdgeInformationFollowsTheRegistration)
   EXPECT_GT(I(0, 0), 1e4);
 }
 
-// A hall's long wall with a few cross features: the fit's curvature along
-// the wall is small but gives millimetres; weak_ratio puts weak_min_std_m
-// there and leaves the strong direction and a balanced fit alone.
-TEST(LoopClosure, LopsidedEdgesGetTheWeakStdAlongTheWall)
-{
-  LoopClosureParams p;
-  IcpResult r = goodRegistration();
-  r.information = Eigen::Vector3d(2e4, 2e5, 1e5).asDiagonal();  // weak along x
-  r.info_ratio = 0.1;
-  const CPose2D from(0, 0, M_PI / 2);  // x of the map is -y of `from`
-  const Eigen::Matrix3d off = LoopCloser(p, IcpParams{}).edgeInformation(&r, from, 0.5);
-  p.weak_ratio = 0.3;
-  p.weak_min_std_m = 0.05;
-  LoopCloser lc(p, IcpParams{});
-  const Eigen::Matrix3d on = lc.edgeInformation(&r, from, 0.5);
-  EXPECT_GT(off(1, 1), 1.0 / (0.01 * 0.01));  // about 1 cm or better without it
-  EXPECT_NEAR(on(1, 1), 1.0 / (0.05 * 0.05), 1e-6);
-  EXPECT_NEAR(on(0, 0), off(0, 0), 1e-9 * off(0, 0));  // across the wall: unchanged
-  EXPECT_NEAR(on(2, 2), off(2, 2), 1e-9 * off(2, 2));
-  // Scaled by the registration's shift along the weak direction instead:
-  // a 0.2 m shift gets 0.1 m, a millimetre's keeps the fit's information.
-  p.weak_min_std_m = 0;
-  p.weak_std_per_shift = 0.5;
-  LoopCloser by_shift(p, IcpParams{});
-  EXPECT_NEAR(by_shift.edgeInformation(&r, from, 0.5, -0.2)(1, 1), 1.0 / (0.1 * 0.1), 1e-6);
-  EXPECT_TRUE(by_shift.edgeInformation(&r, from, 0.5, 0.001).isApprox(off));
-  // Balanced information (a room's corner) is not touched.
-  r.information = Eigen::Vector3d(2e5, 2e5, 1e5).asDiagonal();
-  r.info_ratio = 1.0;
-  EXPECT_TRUE(lc.edgeInformation(&r, from, 0.5).isApprox(
-      LoopCloser(LoopClosureParams{}, IcpParams{}).edgeInformation(&r, from, 0.5)));
-}
-
 TEST(LoopClosure, BadKeysAreNamed)
 {
   mrpt::config::CConfigFileMemory cfg;

@@ -98,7 +98,7 @@ LoopCloser& LoopCloser::operator=(LoopCloser&&) noexcept = default;
 std::size_t LoopCloser::numEdges() const { return graph_->net.edges.size(); }
 
 Eigen::Matrix3d LoopCloser::edgeInformation(const IcpResult* reg, const CPose2D& from,
-                                            double dist_m, double weak_shift_m) const
+                                            double dist_m) const
 {
   const auto& p = params_;
   Eigen::Matrix3d out = Eigen::Matrix3d::Zero();
@@ -132,14 +132,6 @@ Eigen::Matrix3d LoopCloser::edgeInformation(const IcpResult* reg, const CPose2D&
   const double lo = 1.0 / (p.edge_max_std_m * p.edge_max_std_m);
   const double hi = 1.0 / (p.edge_min_std_m * p.edge_min_std_m);
   for (int i = 0; i < 2; i++) ev(i) = std::clamp(ev(i), lo, hi);
-  // Lopsided: along the weak direction (the smaller eigenvalue's vector;
-  // the ratio is rotation invariant) the curvature does not bound the error.
-  if (reg->info_ratio < p.weak_ratio)
-  {
-    const double s_weak = std::min(
-        std::max(p.weak_min_std_m, p.weak_std_per_shift * std::abs(weak_shift_m)), p.edge_max_std_m);
-    if (s_weak > 0) ev(0) = std::min(ev(0), 1.0 / (s_weak * s_weak));
-  }
   out.topLeftCorner<2, 2>() = es.eigenvectors() * ev.asDiagonal() * es.eigenvectors().transpose();
   out(2, 2) = std::clamp(local(2, 2), 1.0 / (p.edge_max_std_yaw * p.edge_max_std_yaw),
                          1.0 / (p.edge_min_std_yaw * p.edge_min_std_yaw));
@@ -244,17 +236,8 @@ LoopEvent LoopCloser::addKeyframe(std::size_t stop, const CPose2D& pose, const C
   if (k > 0)
   {
     const Keyframe& prev = keyframes_.back();
-    // How far the registration moved the odometry's prediction along its
-    // weak direction (map frame).
-    double weak_shift = 0;
-    if (reg)
-    {
-      const CPose2D predicted = prev.pose + (odometry - prev.odometry);
-      weak_shift = reg->degenerate_dir.dot(
-          Eigen::Vector2d(pose.x() - predicted.x(), pose.y() - predicted.y()));
-    }
     graph_->addEdge(k - 1, k, pose - prev.pose,
-                    edgeInformation(reg, prev.pose, xyDist(pose, prev.pose), weak_shift));
+                    edgeInformation(reg, prev.pose, xyDist(pose, prev.pose)));
   }
   keyframes_.push_back(std::move(kf));
   if (!params_.enabled) return ev;

@@ -42,9 +42,6 @@ void LoopClosureParams::loadFromConfigFile(const mrpt::config::CConfigFileBase& 
   MRPT_LOAD_CONFIG_VAR(edge_sigma_floor_m, double, c, s);
   MRPT_LOAD_CONFIG_VAR(edge_info_scale, double, c, s);
   MRPT_LOAD_CONFIG_VAR(edge_min_std_m, double, c, s);
-  MRPT_LOAD_CONFIG_VAR(weak_ratio, double, c, s);
-  MRPT_LOAD_CONFIG_VAR(weak_min_std_m, double, c, s);
-  MRPT_LOAD_CONFIG_VAR(weak_std_per_shift, double, c, s);
   MRPT_LOAD_CONFIG_VAR(edge_max_std_m, double, c, s);
   MRPT_LOAD_CONFIG_VAR_DEGREES(edge_min_std_yaw, c, s);
   MRPT_LOAD_CONFIG_VAR_DEGREES(edge_max_std_yaw, c, s);
@@ -83,10 +80,6 @@ void LoopClosureParams::loadFromConfigFile(const mrpt::config::CConfigFileBase& 
                "must be > 0 and <= edge_max_std_m");
   requireValid(edge_min_std_yaw > 0 && edge_max_std_yaw >= edge_min_std_yaw, c, s,
                "edge_min_std_yaw", "must be > 0 and <= edge_max_std_yaw");
-  requireValid(weak_ratio >= 0 && weak_ratio <= 1, c, s, "weak_ratio", "must be in [0, 1] (0 = off)");
-  requireValid(weak_min_std_m >= 0 && weak_min_std_m <= edge_max_std_m, c, s, "weak_min_std_m",
-               "must be >= 0 m and <= edge_max_std_m");
-  requireValid(weak_std_per_shift >= 0, c, s, "weak_std_per_shift", "must be >= 0 (0 = off)");
   requireValid(edge_info_scale > 0 && edge_sigma_floor_m > 0, c, s, "edge_info_scale",
                "edge_info_scale and edge_sigma_floor_m must be > 0");
   requireValid(odometry_std_per_m > 0 && odometry_std_yaw_per_m > 0, c, s, "odometry_std_per_m",
@@ -131,9 +124,6 @@ void LoopClosureParams::saveToConfigFile(mrpt::config::CConfigFileBase& c, const
   MRPT_SAVE_CONFIG_VAR(edge_sigma_floor_m, c, s);
   MRPT_SAVE_CONFIG_VAR(edge_info_scale, c, s);
   MRPT_SAVE_CONFIG_VAR(edge_min_std_m, c, s);
-  MRPT_SAVE_CONFIG_VAR(weak_ratio, c, s);
-  MRPT_SAVE_CONFIG_VAR(weak_min_std_m, c, s);
-  MRPT_SAVE_CONFIG_VAR(weak_std_per_shift, c, s);
   MRPT_SAVE_CONFIG_VAR(edge_max_std_m, c, s);
   MRPT_SAVE_CONFIG_VAR_DEGREES(edge_min_std_yaw, c, s);
   MRPT_SAVE_CONFIG_VAR_DEGREES(edge_max_std_yaw, c, s);

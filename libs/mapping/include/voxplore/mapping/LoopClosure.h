@@ -118,23 +118,6 @@ struct LoopClosureParams : public mrpt::config::CLoadableOptions
   double edge_sigma_floor_m = 0.01;
   double edge_info_scale = 0.05;
   double edge_min_std_m = 0.003;  ///< translation std of an edge at least [m]
-  /// An edge from a registration whose translational information is
-  /// lopsided (IcpResult::info_ratio under weak_ratio: a corridor, a hall's
-  /// long wall) gets at least weak_min_std_m of std along its weak
-  /// direction. J^T J / sigma^2 x edge_info_scale put about 4 mm there, so
-  /// an edge to a drifted pass of a hall pinned the graph 0.1-0.2 m off
-  /// along the wall even after a right closure (b3 compact nearest seed 3,
-  /// BENCHMARKS.md fiftieth session): ICP stays wherever it starts along
-  /// such a direction, so the fit's curvature does not measure the error
-  /// there. 0 = off.
-  double weak_ratio = 0.0;
-  double weak_min_std_m = 0.05;  ///< [m]
-  /// ... and a registration edge at least weak_std_per_shift x how far the
-  /// registration moved the odometry's prediction along that direction
-  /// (b3 compact nearest seed 3, stop 130: a 184 deg turn whose odometry
-  /// was 0.46 m off, registered at ratio 0.116 with 0.116 m left along the
-  /// wall; the large shift is what marks that edge). 0 = off.
-  double weak_std_per_shift = 0.0;
   double edge_max_std_m = 1.0;    ///< ... at most (unconstrained directions) [m]
   double edge_min_std_yaw = mrpt::DEG2RAD(0.05);  ///< [rad] (ini: deg)
   double edge_max_std_yaw = mrpt::DEG2RAD(20.0);  ///< [rad] (ini: deg)
@@ -233,10 +216,8 @@ class LoopCloser
 
   /// @brief Information matrix (x, y, yaw in the frame of `from`) of an
   ///        edge from a registration (null: odometry only, over `dist_m`).
-  ///        `weak_shift_m`: how far the registration moved the prediction
-  ///        along its weak direction (weak_std_per_shift).
   Eigen::Matrix3d edgeInformation(const IcpResult* reg, const mrpt::poses::CPose2D& from,
-                                  double dist_m, double weak_shift_m = 0) const;
+                                  double dist_m) const;
 
  private:
   struct Graph;
