@@ -101,6 +101,22 @@ TEST(Config, CompactProfileMovesTheCameraRing)
     EXPECT_LE(std::hypot(m.x(), m.y()), c.robot.footprint().circumradius() + 1e-9);
 }
 
+// config/sim.ini sets the omniRob's body under [robot]; with --robot compact
+// the ini wins, and the tool must be able to say which keys did.
+TEST(Config, BodyKeysThatOverrideAGivenProfileAreListed)
+{
+  const auto cfg = common::openIniFile(std::string(VOXPLORE_SOURCE_DIR) + "/config/sim.ini");
+  const auto c = sim::SimConfig::load(*cfg, std::string("compact"));
+  ASSERT_FALSE(c.profile_overridden.empty());
+  EXPECT_EQ(c.profile_overridden.front().rfind("length_m = 1.2 (compact: ", 0), 0u)
+      << c.profile_overridden.front();
+  EXPECT_TRUE(sim::SimConfig::load(*cfg, std::string("omnirob")).profile_overridden.empty());
+  EXPECT_TRUE(sim::SimConfig::load(*cfg).profile_overridden.empty());  // the ini's own profile
+  mrpt::config::CConfigFileMemory only_profile;
+  only_profile.write("robot", "profile", "omnirob");
+  EXPECT_TRUE(sim::SimConfig::load(only_profile, std::string("compact")).profile_overridden.empty());
+}
+
 TEST(Config, UnknownKeyIsAnErrorNamingFileAndKey)
 {
   const auto msg = errorOf("[robot]\nlenght_m = 1.0\n");

@@ -2,6 +2,9 @@
 #include <voxplore/common/config.h>
 #include <voxplore/sim/SimConfig.h>
 
+#include <cmath>
+#include <sstream>
+
 namespace voxplore::sim
 {
 SimConfig SimConfig::defaults(const std::string& profile)
@@ -21,6 +24,22 @@ SimConfig SimConfig::load(
   SimConfig c = defaults(prof == "custom" ? "omnirob" : prof);
   common::loadChecked(c.robot, cfg, "robot");
   if (profile) c.robot.profile = *profile;
+  if (profile && prof != "custom")
+  {
+    const RobotParams base = RobotParams::byName(prof);
+    const std::pair<const char*, double RobotParams::*> body[] = {
+        {"length_m", &RobotParams::length_m},
+        {"width_m", &RobotParams::width_m},
+        {"height_m", &RobotParams::height_m},
+        {"camera_height_m", &RobotParams::camera_height_m}};
+    for (const auto& [key, field] : body)
+      if (std::abs(c.robot.*field - base.*field) > 1e-9)
+      {
+        std::ostringstream o;
+        o << key << " = " << c.robot.*field << " (" << prof << ": " << base.*field << ")";
+        c.profile_overridden.push_back(o.str());
+      }
+  }
 
   // camN_pose keys for any N are known; which ones are required depends on num_cameras.
   std::set<std::string> cam_keys;

@@ -8,6 +8,7 @@
 
 #include <optional>
 #include <string>
+#include <vector>
 
 namespace voxplore::sim
 {
@@ -17,6 +18,12 @@ struct SimConfig
   RobotParams robot;
   CameraRigParams cameras;
   SimulatorParams sim;
+  /// The body keys ([robot] length_m, width_m, height_m, camera_height_m)
+  /// that the ini set to other values than the profile given to load():
+  /// "key = value (profile: value)". The ini wins; a tool should say so
+  /// (config/sim.ini sets the omniRob's body, so `--robot compact` with it
+  /// simulates the omniRob).
+  std::vector<std::string> profile_overridden;
 
   /// @brief Loads [robot], [cameras], [simulator] from `cfg` (keys checked:
   ///        unknown keys and non-numbers are errors naming file and key).
