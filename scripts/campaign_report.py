@@ -41,7 +41,8 @@ JOB_COLUMNS = ("job", "name", "run_dir", "world_path", "robot", "strategy", "see
 # Keys of summary.json with a column of their own (in this order) before the
 # coverage and area figures, and after them; every other key follows.
 HEAD_KEYS = ("termination_reason", "steps", "stops", "path_length_m")
-TAIL_KEYS = ("collisions", "min_clearance_m", "min_clearance_pose", "ate_rmse_m", "map_precision",
+TAIL_KEYS = ("collisions", "min_clearance_m", "min_clearance_pose", "ate_rmse_m", "ate_online_rmse_m",
+             "map_precision",
              "map_precision_above_floor", "sim_time_s", "compute_s")
 COST_KEYS = ("wall_s", "cpu_s", "peak_rss_mb")
 

@@ -185,6 +185,7 @@ void writeExploreSummary(const ExploreSummary& s, const std::string& path)
   for (std::size_t i = 0; i < s.collision_poses.size(); i++)
     f << (i ? ", " : "") << jsonPose(s.collision_poses[i]);
   f << "],\n  \"ate_rmse_m\": " << s.ate_rmse_m
+    << ",\n  \"ate_online_rmse_m\": " << s.ate_online_rmse_m
     << ",\n  \"compute_s\": " << s.compute_s << ",\n  \"sim_time_s\": " << s.sim_time_s
     << ",\n  \"time_translating_s\": " << s.time_translating_s
     << ",\n  \"time_turning_s\": " << s.time_turning_s
@@ -350,9 +351,11 @@ void ExploreRun::finish()
   s_.collision_poses.clear();
   for (const auto& p : sim_.robot().collisionPoses()) s_.collision_poses.push_back(poseArray(p));
   const fs::path dir(out_dir_);
-  s_.ate_rmse_m = eval::trajectoryError(common::readTum((dir / "trajectory_est.tum").string()),
-                                        common::readTum((dir / "trajectory_gt.tum").string()))
-                      .ate_rmse_m;
+  const auto gt = common::readTum((dir / "trajectory_gt.tum").string());
+  s_.ate_rmse_m =
+      eval::trajectoryError(common::readTum((dir / "trajectory_est.tum").string()), gt).ate_rmse_m;
+  s_.ate_online_rmse_m =
+      eval::trajectoryError(common::readTum((dir / "trajectory_online.tum").string()), gt).ate_rmse_m;
   s_.compute_s = status.compute_s;
   s_.sim_time_s = sim_.simTime();
   s_.peak_rss_mb = processMemoryMb("VmHWM:");

@@ -386,6 +386,7 @@ StopReport SlamIcp::processStop(
     r.octomap_rebuild_left = octomapRebuildPending();
     r.t_octomap_rebuild_ms = 1e3 * tic.Tac();
   }
+  reports_.back().online_pose = pose_;
   reports_.back().t_total_ms = 1e3 * total.Tac();
   return reports_.back();
 }

@@ -91,6 +91,11 @@ void SlamIcp::saveOutputs(const std::string& dir)
     for (const auto& r : reports_)
       tum.write(mrpt::Clock::toDouble(r.timestamp), mrpt::poses::CPose3D(r.pose));
   }
+  {
+    common::TumWriter tum(p("trajectory_online.tum"));
+    for (const auto& r : reports_)
+      tum.write(mrpt::Clock::toDouble(r.timestamp), mrpt::poses::CPose3D(r.online_pose));
+  }
   writeStopsCsv(reports_, p("stops.csv"));
 }
 

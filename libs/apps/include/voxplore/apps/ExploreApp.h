@@ -98,6 +98,9 @@ struct ExploreSummary
   std::array<double, 3> min_clearance_pose{};  ///< world pose (x [m], y [m], yaw [deg]) where that minimum was
   std::vector<std::array<double, 3>> collision_poses;  ///< world pose (x, y, yaw [deg]) before each refused step
   double ate_rmse_m = 0;           ///< absolute trajectory error of the SLAM poses at stops [m]
+  /// ... of the estimates when the robot left each stop (trajectory_online.tum),
+  /// before later loop-closure relaxations [m]
+  double ate_online_rmse_m = 0;
   double compute_s = 0;            ///< wall time of SLAM + planning [s]
   double sim_time_s = 0;           ///< simulated time [s]
   double coverage_2d_circumradius = 0;  ///< the same share of the floor the bare circumcircle reaches (passages narrower than the planner's radius included)

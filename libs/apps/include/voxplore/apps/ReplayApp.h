@@ -42,6 +42,7 @@ struct ReplaySummary
   std::vector<std::size_t> loop_stops;  ///< the stops that closed a loop
   bool has_ground_truth = false;
   double ate_rmse_m = 0, ate_max_m = 0, final_yaw_error_deg = 0, final_xy_error_m = 0;
+  double ate_online_rmse_m = 0;  ///< ATE of trajectory_online.tum (before later relaxations) [m]
   double mean_stop_ms = 0;
 };
 

@@ -49,6 +49,11 @@ struct StopReport
   mrpt::poses::CPose2D odometry;    ///< raw odometry reading
   mrpt::poses::CPose2D predicted;   ///< eq. 4.2 prediction, map frame
   mrpt::poses::CPose2D pose;        ///< final T_map_robot
+  /// The estimate when the robot left the stop (this stop's own loop
+  /// closure included; later confirmations and relaxations not):
+  /// trajectory_online.tum. Its error against the final pose's says what
+  /// the pose graph corrected afterwards.
+  mrpt::poses::CPose2D online_pose;
   IcpResult icp;
   /// The pose is odometry only although ICP is enabled and this is not the
   /// first stop: ICP rejected or impossible (no usable camera, too few
