@@ -86,16 +86,13 @@ void SlamIcp::saveOutputs(const std::string& dir)
   if (!metaview_.points().saveToPlyFile(p("metaview.ply"), true))
     throw std::runtime_error("cannot write '" + p("metaview.ply") + "'");
 
-  {
-    common::TumWriter tum(p("trajectory_est.tum"));
+  const auto writeTrajectory = [&](const char* name, mrpt::poses::CPose2D StopReport::*pose) {
+    common::TumWriter tum(p(name));
     for (const auto& r : reports_)
-      tum.write(mrpt::Clock::toDouble(r.timestamp), mrpt::poses::CPose3D(r.pose));
-  }
-  {
-    common::TumWriter tum(p("trajectory_online.tum"));
-    for (const auto& r : reports_)
-      tum.write(mrpt::Clock::toDouble(r.timestamp), mrpt::poses::CPose3D(r.online_pose));
-  }
+      tum.write(mrpt::Clock::toDouble(r.timestamp), mrpt::poses::CPose3D(r.*pose));
+  };
+  writeTrajectory("trajectory_est.tum", &StopReport::pose);
+  writeTrajectory("trajectory_online.tum", &StopReport::online_pose);
   writeStopsCsv(reports_, p("stops.csv"));
 }
 
