@@ -110,7 +110,12 @@ TEST(Config, BodyKeysThatOverrideAGivenProfileAreListed)
   ASSERT_FALSE(c.profile_overridden.empty());
   EXPECT_EQ(c.profile_overridden.front().rfind("length_m = 1.2 (compact: ", 0), 0u)
       << c.profile_overridden.front();
+  const std::string warning = c.profileOverrideWarning("config/sim.ini");
+  EXPECT_NE(warning.find("--robot compact, but [robot] in config/sim.ini sets length_m = 1.2"),
+            std::string::npos)
+      << warning;
   EXPECT_TRUE(sim::SimConfig::load(*cfg, std::string("omnirob")).profile_overridden.empty());
+  EXPECT_EQ(sim::SimConfig::load(*cfg, std::string("omnirob")).profileOverrideWarning("x.ini"), "");
   EXPECT_TRUE(sim::SimConfig::load(*cfg).profile_overridden.empty());  // the ini's own profile
   mrpt::config::CConfigFileMemory only_profile;
   only_profile.write("robot", "profile", "omnirob");

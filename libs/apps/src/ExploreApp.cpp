@@ -71,6 +71,8 @@ ExploreConfig loadConfig(const ExploreOptions& opts)
   }
   ExploreConfig c;
   c.sim = sim::SimConfig::load(*cfg, opts.robot);
+  if (const auto w = c.sim.profileOverrideWarning(opts.config); !w.empty())
+    std::cerr << "voxplore-explore: warning: " << w << "\n";
   // The registration's body check uses the robot's footprint unless
   // [icp] body_length_m / body_width_m are set.
   c.slam.icp.body_length_m = c.sim.robot.length_m;

@@ -102,14 +102,8 @@ SimRunSummary SimApp::execute(const SimOptions& opts)
 {
   namespace fs = std::filesystem;
   auto cfg = loadConfig(opts);
-  if (!cfg.profile_overridden.empty())
-  {
-    std::cerr << "mrpt-sim: warning: --robot " << *opts.robot << ", but [robot] in " << opts.config
-              << " sets";
-    for (const auto& o : cfg.profile_overridden) std::cerr << " " << o << ";";
-    std::cerr << " the ini wins: the robot simulated has its values (leave only 'profile' in "
-                 "[robot], as config/explore.ini does, to simulate the profile)\n";
-  }
+  if (const auto w = cfg.profileOverrideWarning(opts.config); !w.empty())
+    std::cerr << "mrpt-sim: warning: " << w << "\n";
   if (opts.seed) cfg.sim.seed = *opts.seed;
   if (opts.no_noise)
   {

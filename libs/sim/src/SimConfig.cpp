@@ -22,11 +22,11 @@ SimConfig SimConfig::load(
   const std::string prof =
       profile ? *profile : cfg.read_string("robot", "profile", "omnirob", false);
   SimConfig c = defaults(prof == "custom" ? "omnirob" : prof);
+  const RobotParams base = c.robot;  // the profile's, before the ini's keys
   common::loadChecked(c.robot, cfg, "robot");
   if (profile) c.robot.profile = *profile;
   if (profile && prof != "custom")
   {
-    const RobotParams base = RobotParams::byName(prof);
     const std::pair<const char*, double RobotParams::*> body[] = {
         {"length_m", &RobotParams::length_m},
         {"width_m", &RobotParams::width_m},
@@ -58,6 +58,17 @@ SimConfig SimConfig::load(
 
   common::loadChecked(c.sim, cfg, "simulator");
   return c;
+}
+
+std::string SimConfig::profileOverrideWarning(const std::string& ini_path) const
+{
+  if (profile_overridden.empty()) return {};
+  std::ostringstream o;
+  o << "--robot " << robot.profile << ", but [robot] in " << ini_path << " sets";
+  for (const auto& k : profile_overridden) o << " " << k << ";";
+  o << " the ini wins: the robot simulated has its values (leave only 'profile' in [robot], as "
+       "config/explore.ini does, to simulate the profile)";
+  return o.str();
 }
 
 void SimConfig::save(mrpt::config::CConfigFileBase& cfg) const

@@ -25,6 +25,11 @@ struct SimConfig
   /// simulates the omniRob).
   std::vector<std::string> profile_overridden;
 
+  /// @brief What a tool loading `ini_path` with a --robot profile should
+  ///        print when profile_overridden is not empty ("" otherwise): the
+  ///        keys, both values, and how to simulate the profile instead.
+  std::string profileOverrideWarning(const std::string& ini_path) const;
+
   /// @brief Loads [robot], [cameras], [simulator] from `cfg` (keys checked:
   ///        unknown keys and non-numbers are errors naming file and key).
   ///        `profile` (omnirob | compact), when given, replaces [robot]
