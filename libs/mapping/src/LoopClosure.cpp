@@ -220,6 +220,30 @@ void LoopCloser::closePending(LoopEvent& ev, const IcpResult* match, std::size_t
   ev.graph_shift_mean_m = mean_shift;
 }
 
+void LoopCloser::relaxImplicitLoop(LoopEvent& ev, const ImplicitLoop& implicit,
+                                   const CPose2D& registered)
+{
+  const Keyframe& a = keyframes_[implicit.anchor];
+  ev.with_stop = a.stop;
+  ev.matched = registered;
+  ev.correction_m = xyDist(registered, implicit.chain.pose);
+  ev.correction_yaw = yawDiff(registered, implicit.chain.pose);
+  mrpt::system::CTicTac tic;
+  const auto [max_shift, mean_shift] = optimize();
+  ev.t_optimize_ms = 1e3 * tic.Tac();
+  ev.closed = true;
+  ev.graph_shift_max_m = max_shift;
+  ev.graph_shift_mean_m = mean_shift;
+  std::ostringstream msg;
+  msg.precision(3);
+  if (!ev.message.empty()) msg << ev.message << "; ";
+  msg << "implicit loop with stop " << a.stop << ": the metaview registration (old keyframes pair "
+      << implicit.old_share << " of the cloud) is " << ev.correction_m
+      << " m, " << mrpt::RAD2DEG(ev.correction_yaw) << " deg from the recent pass's; graph moved "
+      << max_shift << " m at most";
+  ev.message = msg.str();
+}
+
 LoopEvent LoopCloser::addKeyframe(std::size_t stop, const CPose2D& pose, const CPose2D& odometry,
                                   double travel_m, const mrpt::maps::CPointsMap& cloud_robot,
                                   double d_min_m, const IcpResult* reg)
@@ -233,15 +257,41 @@ LoopEvent LoopCloser::addKeyframe(std::size_t stop, const CPose2D& pose, const C
   kf.cloud = reduceCloud(cloud_robot, d_min_m);
   const std::size_t k = keyframes_.size();
   graph_->net.nodes[k] = pose;
+  // chain_recent_m: where old keyframes are near, the edge from the previous
+  // keyframe is the recent pass's registration and the metaview's joins the
+  // nearest old keyframe.
+  std::optional<ImplicitLoop> implicit;
+  if (k > 0 && params_.enabled && params_.chain_recent_m > 0 && reg) implicit = implicitLoop(kf);
   if (k > 0)
   {
     const Keyframe& prev = keyframes_.back();
-    graph_->addEdge(k - 1, k, pose - prev.pose,
-                    edgeInformation(reg, prev.pose, xyDist(pose, prev.pose)));
+    if (implicit)
+      graph_->addEdge(k - 1, k, implicit->chain.pose - prev.pose,
+                      edgeInformation(&implicit->chain, prev.pose, 0));
+    else
+      graph_->addEdge(k - 1, k, pose - prev.pose,
+                      edgeInformation(reg, prev.pose, xyDist(pose, prev.pose)));
   }
   keyframes_.push_back(std::move(kf));
   if (!params_.enabled) return ev;
+  bool relax = false;
+  if (implicit)
+  {
+    // The metaview registration as an edge from the old keyframe, at the
+    // poses as registered (before any relaxation below).
+    const Keyframe& a = keyframes_[implicit->anchor];
+    graph_->addEdge(implicit->anchor, k, pose - a.pose, edgeInformation(reg, a.pose, 0));
+    loop_edges_++;
+    relax = !consistent(implicit->chain.pose, pose);
+  }
+  detectLoop(ev);
+  if (relax && !ev.closed) relaxImplicitLoop(ev, *implicit, pose);
+  return ev;
+}
 
+void LoopCloser::detectLoop(LoopEvent& ev)
+{
+  const std::size_t k = keyframes_.size() - 1;
   mrpt::system::CTicTac tic;
   std::size_t anchor = 0;
   const auto m = match(ev, anchor);
@@ -252,7 +302,7 @@ LoopEvent LoopCloser::addKeyframe(std::size_t stop, const CPose2D& pose, const C
                   std::to_string(keyframes_[pending_->kf].stop) + " not confirmed: dropped";
     pending_.reset();
   }
-  if (!m) return ev;
+  if (!m) return;
   const Keyframe& cur = keyframes_.back();
   ev.with_stop = keyframes_[anchor].stop;
   ev.matched = m->pose;
@@ -297,7 +347,7 @@ LoopEvent LoopCloser::addKeyframe(std::size_t stop, const CPose2D& pose, const C
             << " m, " << mrpt::RAD2DEG(a.err_yaw) << " deg";
     }
     ev.message = msg.str();
-    return ev;
+    return;
   }
   if (pending_)
   {
@@ -309,7 +359,7 @@ LoopEvent LoopCloser::addKeyframe(std::size_t stop, const CPose2D& pose, const C
           << std::hypot(moved.x(), moved.y()) << " m, " << mrpt::RAD2DEG(std::abs(moved.phi()))
           << " deg from it";
       ev.message = msg.str();
-      return ev;
+      return;
     }
     const Agreement a = agreement(*pending_, cur, m->pose);
     if (a.agrees)
@@ -320,7 +370,7 @@ LoopEvent LoopCloser::addKeyframe(std::size_t stop, const CPose2D& pose, const C
           << " m, " << mrpt::RAD2DEG(ev.correction_yaw) << " deg; confirmed by stop "
           << first_stop << anchorNote(ev) << "); graph moved " << ev.graph_shift_max_m << " m at most";
       ev.message = msg.str();
-      return ev;
+      return;
     }
     msg << "loop candidate at stop " << pk.stop << " disagrees with this one by " << a.err_m
         << " m, " << mrpt::RAD2DEG(a.err_yaw) << " deg: replaced; ";
@@ -331,7 +381,6 @@ LoopEvent LoopCloser::addKeyframe(std::size_t stop, const CPose2D& pose, const C
       << " m, goodness " << m->goodness << ", information ratio " << m->info_ratio
       << anchorNote(ev) << "), to be confirmed";
   ev.message = msg.str();
-  return ev;
 }
 
 }  // namespace voxplore::mapping

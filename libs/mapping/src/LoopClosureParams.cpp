@@ -27,6 +27,8 @@ void LoopClosureParams::loadFromConfigFile(const mrpt::config::CConfigFileBase& 
   MRPT_LOAD_CONFIG_VAR(margin, double, c, s);
   MRPT_LOAD_CONFIG_VAR(probe_ratio, double, c, s);
   MRPT_LOAD_CONFIG_VAR(probe_m, double, c, s);
+  MRPT_LOAD_CONFIG_VAR(chain_recent_m, double, c, s);
+  MRPT_LOAD_CONFIG_VAR(implicit_min_old_share, double, c, s);
   MRPT_LOAD_CONFIG_VAR(probe_tol_m, double, c, s);
   MRPT_LOAD_CONFIG_VAR(consistent_m, double, c, s);
   MRPT_LOAD_CONFIG_VAR_DEGREES(consistent_yaw, c, s);
@@ -73,6 +75,9 @@ void LoopClosureParams::loadFromConfigFile(const mrpt::config::CConfigFileBase& 
                "must be in [0, 1] (0 = off)");
   requireValid(probe_m > 0 && probe_tol_m > 0 && probe_tol_m < probe_m, c, s, "probe_m",
                "probe_m and probe_tol_m must be > 0 m, probe_tol_m < probe_m");
+  requireValid(chain_recent_m >= 0, c, s, "chain_recent_m", "must be >= 0 m (0 = off)");
+  requireValid(implicit_min_old_share >= 0 && implicit_min_old_share <= 1, c, s, "implicit_min_old_share",
+               "must be in [0, 1]");
   requireValid(confirm_within >= 1, c, s, "confirm_within", "must be >= 1");
   requireValid(confirm_min_move_m >= 0, c, s, "confirm_min_move_m", "must be >= 0");
   requireValid(confirm_min_turn >= 0, c, s, "confirm_min_turn", "must be >= 0");
@@ -109,6 +114,8 @@ void LoopClosureParams::saveToConfigFile(mrpt::config::CConfigFileBase& c, const
   MRPT_SAVE_CONFIG_VAR(margin, c, s);
   MRPT_SAVE_CONFIG_VAR(probe_ratio, c, s);
   MRPT_SAVE_CONFIG_VAR(probe_m, c, s);
+  MRPT_SAVE_CONFIG_VAR(chain_recent_m, c, s);
+  MRPT_SAVE_CONFIG_VAR(implicit_min_old_share, c, s);
   MRPT_SAVE_CONFIG_VAR(probe_tol_m, c, s);
   MRPT_SAVE_CONFIG_VAR(consistent_m, c, s);
   MRPT_SAVE_CONFIG_VAR_DEGREES(consistent_yaw, c, s);

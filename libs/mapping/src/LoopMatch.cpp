@@ -50,6 +50,52 @@ mrpt::maps::CSimplePointsMap LoopCloser::submapAround(const CPose2D& around, Vie
   return out;
 }
 
+std::optional<IcpResult> LoopCloser::chainRegistration(const Keyframe& kf) const
+{
+  if (keyframes_.empty() || params_.chain_recent_m <= 0) return std::nullopt;
+  const Keyframe& prev = keyframes_.back();
+  const CPose2D predicted = prev.pose + (kf.odometry - prev.odometry);
+  Viewpoints views;
+  const auto recent = submapAround(predicted, views, kf.travel_m - params_.chain_recent_m, prev.travel_m);
+  if (recent.empty()) return std::nullopt;
+  IcpParams p = icp_;
+  p.enabled = true;
+  IcpResult r = alignPlanar(recent, kf.cloud, predicted, p, &views);
+  if (!r.accepted || r.degenerate || r.pairs == 0) return std::nullopt;
+  return r;
+}
+
+std::optional<std::size_t> LoopCloser::nearestOlderThanChain(const CPose2D& pose, double travel_m) const
+{
+  const double max_travel = travel_m - params_.chain_recent_m;
+  double best = params_.submap_radius_m;
+  std::optional<std::size_t> out;
+  for (std::size_t i = 0; i < keyframes_.size() && keyframes_[i].travel_m <= max_travel; i++)
+    if (const double d = xyDist(keyframes_[i].pose, pose); d <= best)
+    {
+      best = d;
+      out = i;
+    }
+  return out;
+}
+
+std::optional<LoopCloser::ImplicitLoop> LoopCloser::implicitLoop(const Keyframe& kf) const
+{
+  const auto old = nearestOlderThanChain(kf.pose, kf.travel_m);
+  if (!old || *old + 1 >= keyframes_.size()) return std::nullopt;
+  // The metaview registration pulled on the old keyframes' points only if
+  // it paired them: an old keyframe behind a wall would pin the drifted
+  // estimate to it.
+  Viewpoints views;
+  const auto old_map = submapAround(kf.pose, views, -std::numeric_limits<double>::infinity(),
+                                    kf.travel_m - params_.chain_recent_m);
+  const double share = old_map.empty() ? 0.0 : goodnessAt(old_map, kf.cloud, kf.pose, icp_, &views);
+  if (share < params_.implicit_min_old_share) return std::nullopt;
+  auto chain = chainRegistration(kf);
+  if (!chain) return std::nullopt;
+  return ImplicitLoop{*chain, *old, share};
+}
+
 std::optional<IcpResult> LoopCloser::match(LoopEvent& ev, std::size_t& anchor)
 {
   const Keyframe& cur = keyframes_.back();

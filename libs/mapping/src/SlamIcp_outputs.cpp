@@ -52,7 +52,7 @@ void writeStopsCsv(const std::vector<StopReport>& reports, const std::string& pa
       << "," << r.invalid_pixels << "," << r.metaview_added << "," << r.metaview_size << ","
       << r.octomap.rays << "," << r.loop.searched << "," << r.loop.consistent << ","
       << r.loop.candidate << "," << r.loop.closed << ","
-      << (r.loop.searched && (r.loop.consistent || r.loop.candidate || r.loop.closed)
+      << ((r.loop.searched && (r.loop.consistent || r.loop.candidate)) || r.loop.closed
               ? std::to_string(r.loop.with_stop)
               : std::string())
       << "," << std::setprecision(4) << r.loop.correction_m << ","

@@ -103,6 +103,25 @@ struct LoopClosureParams : public mrpt::config::CLoadableOptions
   /// before the candidate is relaxed. false = a consistent match adds its
   /// edge only, and the candidate waits for a correcting match.
   bool confirm_when_consistent = true;
+  /// Implicit loops. The metaview registration pairs a stop's cloud with
+  /// every pass that saw the place, so where old walls are in view it
+  /// carries the estimate back onto the old map by itself, and the edge from
+  /// the previous keyframe holds that return as motion (the fifty-first
+  /// session: 44 such returns in 40 runs left drifted stretches that no
+  /// closure corrected). With chain_recent_m > 0, where a keyframe older
+  /// than chain_recent_m of travel is within submap_radius_m, the edge from
+  /// the previous keyframe is the stop's cloud registered against the
+  /// keyframes of the last chain_recent_m of travel only (one pass, from the
+  /// previous keyframe plus the odometry step; the metaview registration's
+  /// edge when that is refused or degenerate), and the metaview registration
+  /// becomes an edge from the nearest old keyframe, provided the old
+  /// keyframes' points pair at least implicit_min_old_share of the cloud at
+  /// the metaview pose (else an old keyframe behind a wall would pin the
+  /// drifted estimate to itself). When the two are not
+  /// consistent (consistent_m / consistent_yaw) the graph is relaxed: the
+  /// return is spread over the loop instead of held as one step. 0 = off [m].
+  double chain_recent_m = 0.0;
+  double implicit_min_old_share = 0.3;  ///< see chain_recent_m
   /// The maps are rebuilt from the keyframes when a relaxation moved a
   /// keyframe by more than this [m] (or yaw x 3 m by more than it).
   double rebuild_min_shift_m = 0.02;
@@ -230,6 +249,35 @@ class LoopCloser
   /// A match at `matched` agrees with the estimate `estimate` (within
   /// consistent_m and consistent_yaw): it corrects nothing.
   bool consistent(const mrpt::poses::CPose2D& matched, const mrpt::poses::CPose2D& estimate) const;
+  /// chain_recent_m: the cloud of keyframe `kf` (not yet added) registered
+  /// against the keyframes of the last chain_recent_m of travel before it,
+  /// from the previous keyframe plus the odometry step; nullopt when
+  /// refused, degenerate or nothing recent is near.
+  std::optional<IcpResult> chainRegistration(const Keyframe& kf) const;
+  /// The keyframe nearest `pose` among those at least chain_recent_m of
+  /// travel before `travel_m` and within submap_radius_m; nullopt if none.
+  std::optional<std::size_t> nearestOlderThanChain(const mrpt::poses::CPose2D& pose, double travel_m) const;
+  /// Loop detection for the newest keyframe: match, candidate,
+  /// confirmation, relaxation; fills `ev`.
+  void detectLoop(LoopEvent& ev);
+  /// chain_recent_m: the recent pass's registration of a new keyframe
+  /// and the old keyframe nearest it.
+  struct ImplicitLoop
+  {
+    IcpResult chain;
+    std::size_t anchor = 0;
+    double old_share = 0;  ///< goodness of the cloud against the old keyframes at its metaview pose
+  };
+  /// For keyframe `kf` (not yet added): nullopt when no keyframe older than
+  /// chain_recent_m of travel (and not the previous one) is within
+  /// submap_radius_m, when those old keyframes pair less than
+  /// implicit_min_old_share of its cloud at its metaview pose, or when the
+  /// recent pass does not register it.
+  std::optional<ImplicitLoop> implicitLoop(const Keyframe& kf) const;
+  /// Relaxes the graph after the newest keyframe's metaview registration
+  /// (at `registered`) came out inconsistent with the recent pass's; fills `ev`.
+  void relaxImplicitLoop(LoopEvent& ev, const ImplicitLoop& implicit,
+                         const mrpt::poses::CPose2D& registered);
   /// Match the newest keyframe against its old neighbours; nullopt: no match.
   std::optional<IcpResult> match(LoopEvent& ev, std::size_t& anchor);
   /// The match `r` registered again against its anchor's own pass
