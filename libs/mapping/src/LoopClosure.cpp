@@ -191,6 +191,16 @@ LoopCloser::Agreement LoopCloser::agreement(const Pending& pending, const Keyfra
   return a;
 }
 
+void LoopCloser::relax(LoopEvent& ev)
+{
+  mrpt::system::CTicTac tic;
+  const auto [max_shift, mean_shift] = optimize();
+  ev.t_optimize_ms = 1e3 * tic.Tac();
+  ev.closed = true;
+  ev.graph_shift_max_m = max_shift;
+  ev.graph_shift_mean_m = mean_shift;
+}
+
 void LoopCloser::closePending(LoopEvent& ev, const IcpResult* match, std::size_t anchor)
 {
   addLoopEdge(pending_->anchor, pending_->kf, pending_->matched, pending_->reg);
@@ -212,12 +222,7 @@ void LoopCloser::closePending(LoopEvent& ev, const IcpResult* match, std::size_t
     }
   }
   pending_.reset();
-  mrpt::system::CTicTac tic;
-  const auto [max_shift, mean_shift] = optimize();
-  ev.t_optimize_ms = 1e3 * tic.Tac();
-  ev.closed = true;
-  ev.graph_shift_max_m = max_shift;
-  ev.graph_shift_mean_m = mean_shift;
+  relax(ev);
 }
 
 void LoopCloser::relaxImplicitLoop(LoopEvent& ev, const ImplicitLoop& implicit,
@@ -228,19 +233,14 @@ void LoopCloser::relaxImplicitLoop(LoopEvent& ev, const ImplicitLoop& implicit,
   ev.matched = registered;
   ev.correction_m = xyDist(registered, implicit.chain.pose);
   ev.correction_yaw = yawDiff(registered, implicit.chain.pose);
-  mrpt::system::CTicTac tic;
-  const auto [max_shift, mean_shift] = optimize();
-  ev.t_optimize_ms = 1e3 * tic.Tac();
-  ev.closed = true;
-  ev.graph_shift_max_m = max_shift;
-  ev.graph_shift_mean_m = mean_shift;
+  relax(ev);
   std::ostringstream msg;
   msg.precision(3);
   if (!ev.message.empty()) msg << ev.message << "; ";
   msg << "implicit loop with stop " << a.stop << ": the metaview registration (old keyframes pair "
       << implicit.old_share << " of the cloud) is " << ev.correction_m
       << " m, " << mrpt::RAD2DEG(ev.correction_yaw) << " deg from the recent pass's; graph moved "
-      << max_shift << " m at most";
+      << ev.graph_shift_max_m << " m at most";
   ev.message = msg.str();
 }
 
@@ -282,7 +282,11 @@ LoopEvent LoopCloser::addKeyframe(std::size_t stop, const CPose2D& pose, const C
     const Keyframe& a = keyframes_[implicit->anchor];
     graph_->addEdge(implicit->anchor, k, pose - a.pose, edgeInformation(reg, a.pose, 0));
     loop_edges_++;
-    relax = !consistent(implicit->chain.pose, pose);
+    // Registrations scatter by a few centimetres (loop errors of 1-10 cm at
+    // 3-5 cm disagreements, replays): only a larger return relaxes.
+    relax = !consistent(implicit->chain.pose, pose) &&
+            xyDist(implicit->chain.pose, pose) + 3.0 * std::abs(yawDiff(implicit->chain.pose, pose)) >=
+                params_.implicit_min_m;
   }
   detectLoop(ev);
   if (relax && !ev.closed) relaxImplicitLoop(ev, *implicit, pose);

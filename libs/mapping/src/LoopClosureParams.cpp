@@ -29,6 +29,7 @@ void LoopClosureParams::loadFromConfigFile(const mrpt::config::CConfigFileBase& 
   MRPT_LOAD_CONFIG_VAR(probe_m, double, c, s);
   MRPT_LOAD_CONFIG_VAR(chain_recent_m, double, c, s);
   MRPT_LOAD_CONFIG_VAR(implicit_min_old_share, double, c, s);
+  MRPT_LOAD_CONFIG_VAR(implicit_min_m, double, c, s);
   MRPT_LOAD_CONFIG_VAR(probe_tol_m, double, c, s);
   MRPT_LOAD_CONFIG_VAR(consistent_m, double, c, s);
   MRPT_LOAD_CONFIG_VAR_DEGREES(consistent_yaw, c, s);
@@ -78,6 +79,7 @@ void LoopClosureParams::loadFromConfigFile(const mrpt::config::CConfigFileBase& 
   requireValid(chain_recent_m >= 0, c, s, "chain_recent_m", "must be >= 0 m (0 = off)");
   requireValid(implicit_min_old_share >= 0 && implicit_min_old_share <= 1, c, s, "implicit_min_old_share",
                "must be in [0, 1]");
+  requireValid(implicit_min_m >= 0, c, s, "implicit_min_m", "must be >= 0 m");
   requireValid(confirm_within >= 1, c, s, "confirm_within", "must be >= 1");
   requireValid(confirm_min_move_m >= 0, c, s, "confirm_min_move_m", "must be >= 0");
   requireValid(confirm_min_turn >= 0, c, s, "confirm_min_turn", "must be >= 0");
@@ -116,6 +118,7 @@ void LoopClosureParams::saveToConfigFile(mrpt::config::CConfigFileBase& c, const
   MRPT_SAVE_CONFIG_VAR(probe_m, c, s);
   MRPT_SAVE_CONFIG_VAR(chain_recent_m, c, s);
   MRPT_SAVE_CONFIG_VAR(implicit_min_old_share, c, s);
+  MRPT_SAVE_CONFIG_VAR(implicit_min_m, c, s);
   MRPT_SAVE_CONFIG_VAR(probe_tol_m, c, s);
   MRPT_SAVE_CONFIG_VAR(consistent_m, c, s);
   MRPT_SAVE_CONFIG_VAR_DEGREES(consistent_yaw, c, s);

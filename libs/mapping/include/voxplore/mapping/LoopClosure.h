@@ -117,11 +117,16 @@ struct LoopClosureParams : public mrpt::config::CLoadableOptions
   /// becomes an edge from the nearest old keyframe, provided the old
   /// keyframes' points pair at least implicit_min_old_share of the cloud at
   /// the metaview pose (else an old keyframe behind a wall would pin the
-  /// drifted estimate to itself). When the two are not
-  /// consistent (consistent_m / consistent_yaw) the graph is relaxed: the
-  /// return is spread over the loop instead of held as one step. 0 = off [m].
+  /// drifted estimate to itself). When the two differ beyond consistent_m /
+  /// consistent_yaw and by at least implicit_min_m, the graph is relaxed:
+  /// the return is spread over the loop instead of held as one step. Off by
+  /// default: replays of 12 campaign runs were 5 better, 4 worse
+  /// (BENCHMARKS.md, fifty-second session). 0 = off [m].
   double chain_recent_m = 0.0;
   double implicit_min_old_share = 0.3;  ///< see chain_recent_m
+  /// An implicit loop relaxes the graph only when the two registrations
+  /// differ by at least this (translation + 3 m x yaw) [m]
+  double implicit_min_m = 0.08;
   /// The maps are rebuilt from the keyframes when a relaxation moved a
   /// keyframe by more than this [m] (or yaw x 3 m by more than it).
   double rebuild_min_shift_m = 0.02;
@@ -296,6 +301,9 @@ class LoopCloser
   /// confirm_yaw)?
   Agreement agreement(const Pending& pending, const Keyframe& cur,
                       const mrpt::poses::CPose2D& matched) const;
+  /// Relaxes the graph and records it in `ev` (closed, graph shift,
+  /// optimisation time).
+  void relax(LoopEvent& ev);
   /// Closes the waiting candidate: its edge, then `match`'s (to the newest
   /// keyframe from `anchor`) unless null (then the edges since the
   /// candidate become odometry edges), then the relaxation; fills ev's
