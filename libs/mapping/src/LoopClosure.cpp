@@ -274,7 +274,7 @@ LoopEvent LoopCloser::addKeyframe(std::size_t stop, const CPose2D& pose, const C
   }
   keyframes_.push_back(std::move(kf));
   if (!params_.enabled) return ev;
-  bool relax = false;
+  bool relax_implicit = false;
   if (implicit)
   {
     // The metaview registration as an edge from the old keyframe, at the
@@ -284,12 +284,12 @@ LoopEvent LoopCloser::addKeyframe(std::size_t stop, const CPose2D& pose, const C
     loop_edges_++;
     // Registrations scatter by a few centimetres (loop errors of 1-10 cm at
     // 3-5 cm disagreements, replays): only a larger return relaxes.
-    relax = !consistent(implicit->chain.pose, pose) &&
+    relax_implicit = !consistent(implicit->chain.pose, pose) &&
             xyDist(implicit->chain.pose, pose) + 3.0 * std::abs(yawDiff(implicit->chain.pose, pose)) >=
                 params_.implicit_min_m;
   }
   detectLoop(ev);
-  if (relax && !ev.closed) relaxImplicitLoop(ev, *implicit, pose);
+  if (relax_implicit && !ev.closed) relaxImplicitLoop(ev, *implicit, pose);
   return ev;
 }
 
