@@ -19,6 +19,7 @@ namespace voxplore::mapping
 using mrpt::poses::CPose2D;
 
 using detail::cellKey;
+using detail::shiftDist;
 using detail::xyDist;
 using detail::yawDiff;
 
@@ -157,8 +158,7 @@ std::pair<double, double> LoopCloser::optimize()
   for (std::size_t i = 0; i < keyframes_.size(); i++)
   {
     const CPose2D& n = graph_->net.nodes.at(i);
-    // A yaw change counts as the shift it gives 3 m away.
-    const double shift = xyDist(n, keyframes_[i].pose) + 3.0 * std::abs(yawDiff(n, keyframes_[i].pose));
+    const double shift = shiftDist(n, keyframes_[i].pose);
     max_shift = std::max(max_shift, shift);
     sum += shift;
     keyframes_[i].pose = n;
@@ -285,8 +285,7 @@ LoopEvent LoopCloser::addKeyframe(std::size_t stop, const CPose2D& pose, const C
     // Registrations scatter by a few centimetres (loop errors of 1-10 cm at
     // 3-5 cm disagreements, replays): only a larger return relaxes.
     relax_implicit = !consistent(implicit->chain.pose, pose) &&
-            xyDist(implicit->chain.pose, pose) + 3.0 * std::abs(yawDiff(implicit->chain.pose, pose)) >=
-                params_.implicit_min_m;
+                     shiftDist(implicit->chain.pose, pose) >= params_.implicit_min_m;
   }
   detectLoop(ev);
   if (relax_implicit && !ev.closed) relaxImplicitLoop(ev, *implicit, pose);

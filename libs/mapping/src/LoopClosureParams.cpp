@@ -27,9 +27,6 @@ void LoopClosureParams::loadFromConfigFile(const mrpt::config::CConfigFileBase& 
   MRPT_LOAD_CONFIG_VAR(margin, double, c, s);
   MRPT_LOAD_CONFIG_VAR(probe_ratio, double, c, s);
   MRPT_LOAD_CONFIG_VAR(probe_m, double, c, s);
-  MRPT_LOAD_CONFIG_VAR(chain_recent_m, double, c, s);
-  MRPT_LOAD_CONFIG_VAR(implicit_min_old_share, double, c, s);
-  MRPT_LOAD_CONFIG_VAR(implicit_min_m, double, c, s);
   MRPT_LOAD_CONFIG_VAR(probe_tol_m, double, c, s);
   MRPT_LOAD_CONFIG_VAR(consistent_m, double, c, s);
   MRPT_LOAD_CONFIG_VAR_DEGREES(consistent_yaw, c, s);
@@ -40,6 +37,9 @@ void LoopClosureParams::loadFromConfigFile(const mrpt::config::CConfigFileBase& 
   MRPT_LOAD_CONFIG_VAR(confirm_min_move_m, double, c, s);
   MRPT_LOAD_CONFIG_VAR_DEGREES(confirm_min_turn, c, s);
   MRPT_LOAD_CONFIG_VAR(confirm_when_consistent, bool, c, s);
+  MRPT_LOAD_CONFIG_VAR(chain_recent_m, double, c, s);
+  MRPT_LOAD_CONFIG_VAR(implicit_min_old_share, double, c, s);
+  MRPT_LOAD_CONFIG_VAR(implicit_min_m, double, c, s);
   MRPT_LOAD_CONFIG_VAR(rebuild_min_shift_m, double, c, s);
   MRPT_LOAD_CONFIG_VAR(octomap_rebuild_per_stop, int, c, s);
   MRPT_LOAD_CONFIG_VAR(edge_sigma_floor_m, double, c, s);
@@ -116,9 +116,6 @@ void LoopClosureParams::saveToConfigFile(mrpt::config::CConfigFileBase& c, const
   MRPT_SAVE_CONFIG_VAR(margin, c, s);
   MRPT_SAVE_CONFIG_VAR(probe_ratio, c, s);
   MRPT_SAVE_CONFIG_VAR(probe_m, c, s);
-  MRPT_SAVE_CONFIG_VAR(chain_recent_m, c, s);
-  MRPT_SAVE_CONFIG_VAR(implicit_min_old_share, c, s);
-  MRPT_SAVE_CONFIG_VAR(implicit_min_m, c, s);
   MRPT_SAVE_CONFIG_VAR(probe_tol_m, c, s);
   MRPT_SAVE_CONFIG_VAR(consistent_m, c, s);
   MRPT_SAVE_CONFIG_VAR_DEGREES(consistent_yaw, c, s);
@@ -129,6 +126,9 @@ void LoopClosureParams::saveToConfigFile(mrpt::config::CConfigFileBase& c, const
   MRPT_SAVE_CONFIG_VAR(confirm_min_move_m, c, s);
   MRPT_SAVE_CONFIG_VAR_DEGREES(confirm_min_turn, c, s);
   MRPT_SAVE_CONFIG_VAR(confirm_when_consistent, c, s);
+  MRPT_SAVE_CONFIG_VAR(chain_recent_m, c, s);
+  MRPT_SAVE_CONFIG_VAR(implicit_min_old_share, c, s);
+  MRPT_SAVE_CONFIG_VAR(implicit_min_m, c, s);
   MRPT_SAVE_CONFIG_VAR(rebuild_min_shift_m, c, s);
   MRPT_SAVE_CONFIG_VAR(octomap_rebuild_per_stop, c, s);
   MRPT_SAVE_CONFIG_VAR(edge_sigma_floor_m, c, s);

@@ -52,8 +52,7 @@ mrpt::maps::CSimplePointsMap LoopCloser::submapAround(const CPose2D& around, Vie
 
 std::optional<IcpResult> LoopCloser::chainRegistration(const Keyframe& kf) const
 {
-  if (keyframes_.empty() || params_.chain_recent_m <= 0) return std::nullopt;
-  const Keyframe& prev = keyframes_.back();
+  const Keyframe& prev = keyframes_.back();  // implicitLoop() found an older one
   const CPose2D predicted = prev.pose + (kf.odometry - prev.odometry);
   Viewpoints views;
   const auto recent = submapAround(predicted, views, kf.travel_m - params_.chain_recent_m, prev.travel_m);

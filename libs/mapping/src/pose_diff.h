@@ -19,4 +19,10 @@ inline double xyDist(const mrpt::poses::CPose2D& a, const mrpt::poses::CPose2D& 
 {
   return std::hypot(a.x() - b.x(), a.y() - b.y());
 }
+/// how far b is from a, a yaw difference counted as the shift it gives 3 m
+/// away (graph shifts, rebuild_min_shift_m, implicit_min_m) [m]
+inline double shiftDist(const mrpt::poses::CPose2D& a, const mrpt::poses::CPose2D& b)
+{
+  return xyDist(a, b) + 3.0 * std::abs(yawDiff(a, b));
+}
 }  // namespace voxplore::mapping::detail

@@ -257,7 +257,8 @@ class LoopCloser
   /// chain_recent_m: the cloud of keyframe `kf` (not yet added) registered
   /// against the keyframes of the last chain_recent_m of travel before it,
   /// from the previous keyframe plus the odometry step; nullopt when
-  /// refused, degenerate or nothing recent is near.
+  /// refused, degenerate or nothing recent is near. Called by implicitLoop()
+  /// only (chain_recent_m > 0, keyframes() not empty).
   std::optional<IcpResult> chainRegistration(const Keyframe& kf) const;
   /// The keyframe nearest `pose` among those at least chain_recent_m of
   /// travel before `travel_m` and within submap_radius_m; nullopt if none.
