@@ -160,6 +160,7 @@ TEST(Config, SlamIcpParamsRoundTrip)
 {
   mapping::SlamIcpParams p;
   p.metaview.d_min_m = 0.03;
+  p.metaview.d_dup_2d_m = 0.07;
   p.icp.d_max_m = 0.4;
   p.icp.max_correction_yaw = mrpt::DEG2RAD(7.0);
   p.octomap.l_res_m = 0.08;
@@ -173,13 +174,15 @@ TEST(Config, SlamIcpParamsRoundTrip)
   EXPECT_EQ(m1.getContent(), m2.getContent());
   EXPECT_NEAR(q.icp.max_correction_yaw, mrpt::DEG2RAD(7.0), 1e-12);
   EXPECT_EQ(q.octomap.l_res_m, 0.08);
+  EXPECT_EQ(q.metaview.d_dup_2d_m, 0.07);
 }
 
 TEST(Config, SlamIcpParamsRejectBadValues)
 {
   const auto path = test::tempPath("bad_slam.ini");
   for (const char* text : {"[octomap]\nl_res_m = -0.05\n", "[octomap]\nth_free = 250\n",
-                           "[icp]\nd_max_m = abc\n", "[metaview]\nd_mn_m = 0.02\n"})
+                           "[icp]\nd_max_m = abc\n", "[metaview]\nd_mn_m = 0.02\n",
+                           "[metaview]\nd_dup_2d_m = -0.05\n"})
   {
     std::ofstream(path) << text;
     mrpt::config::CConfigFile cfg(path);

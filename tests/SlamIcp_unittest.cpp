@@ -100,6 +100,55 @@ TEST(Metaview, PointReductionKeepsPointsApartAndIgnoresRepeats)
   EXPECT_EQ(all.insert(cloud, CPose2D()), 3000u);
 }
 
+TEST(Metaview, AWallSeenAgainAFewCmOffIsNotDrawnTwiceInTheFootprint)
+{
+  // A wall along x (points 1 cm apart, 0.2-0.6 m high), then the same wall
+  // seen again 4 cm off in y (a registration that scattered), and a new wall
+  // 0.5 m away. With d_dup_2d_m 0.06 the footprint holds the first version
+  // only, plus the new wall at full density; the 3D points keep both (the
+  // thesis' d_min); with 0 (the thesis) the footprint holds both versions.
+  const auto wall = [](float y0, float x0)
+  {
+    mrpt::maps::CSimplePointsMap w;
+    for (int i = 0; i < 200; i++)
+      for (int k = 0; k < 5; k++) w.insertPoint(x0 + 0.01f * i, y0, 0.2f + 0.1f * k);
+    return w;
+  };
+  const auto firstWallPoints = [](const mapping::Metaview& m, float y_lo, float y_hi)
+  {
+    std::size_t n = 0;
+    for (std::size_t i = 0; i < m.footprint().size(); i++)
+    {
+      float x, y, z;
+      m.footprint().getPoint(i, x, y, z);
+      n += x < 2.0f && y >= y_lo && y <= y_hi;
+    }
+    return n;
+  };
+  for (const double dup : {0.0, 0.06})
+  {
+    mapping::MetaviewParams p;
+    p.d_dup_2d_m = dup;
+    mapping::Metaview m(p);
+    m.insert(wall(1.0f, 0.0f), CPose2D());
+    const std::size_t first = m.footprint().size();
+    ASSERT_GT(first, 60u);  // 2 m at d_min 2 cm
+    const std::size_t first3d = m.size();
+    auto again = wall(1.04f, 0.0f);
+    m.insert(again, CPose2D());
+    EXPECT_GT(m.size(), first3d + 60) << "3D: both versions (d_min)";
+    const std::size_t second = firstWallPoints(m, 1.03f, 1.05f);
+    if (dup == 0)
+      EXPECT_GT(second, 60u) << "the thesis: the wall is drawn twice";
+    else
+      EXPECT_EQ(second, 0u) << "one version of the wall";
+    // A wall never seen before joins at full density either way.
+    const std::size_t before = m.footprint().size();
+    m.insert(wall(1.5f, 3.0f), CPose2D());
+    EXPECT_GE(m.footprint().size() - before, first - 2);
+  }
+}
+
 TEST(Metaview, RepositionMovesEachKeyframesPointsWithItsPose)
 {
   // Two clouds far apart (no point of one within d_min of the other), put in

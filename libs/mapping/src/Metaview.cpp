@@ -14,11 +14,16 @@ void MetaviewParams::loadFromConfigFile(const mrpt::config::CConfigFileBase& c, 
 {
   MRPT_LOAD_CONFIG_VAR(d_min_m, double, c, s);
   common::requireValid(d_min_m >= 0 && d_min_m < 10, c, s, "d_min_m", "must be in [0, 10) m");
+  MRPT_LOAD_CONFIG_VAR(d_dup_2d_m, double, c, s);
+  common::requireValid(d_dup_2d_m >= 0 && d_dup_2d_m < 1, c, s, "d_dup_2d_m", "must be in [0, 1) m");
+  common::requireValid(d_dup_2d_m == 0 || d_min_m > 0, c, s, "d_dup_2d_m",
+                       "needs d_min_m > 0 (its cells index the footprint)");
 }
 
 void MetaviewParams::saveToConfigFile(mrpt::config::CConfigFileBase& c, const std::string& s) const
 {
   MRPT_SAVE_CONFIG_VAR(d_min_m, c, s);
+  MRPT_SAVE_CONFIG_VAR(d_dup_2d_m, c, s);
 }
 
 Metaview::Metaview(const MetaviewParams& params) : params_(params) {}
@@ -136,6 +141,27 @@ bool Metaview::hasNeighbourWithin(const mrpt::maps::CSimplePointsMap& pts, const
   return false;
 }
 
+bool Metaview::hasOlderFootprintPointWithin(float x, float y, uint32_t older_end) const
+{
+  const double d = params_.d_min_m, r = params_.d_dup_2d_m;
+  const double r2 = r * r;
+  const int64_t reach = static_cast<int64_t>(std::ceil(r / d));
+  const int64_t cx = static_cast<int64_t>(std::floor(x / d));
+  const int64_t cy = static_cast<int64_t>(std::floor(y / d));
+  const auto& xs = points2d_.getPointsBufferRef_x();
+  const auto& ys = points2d_.getPointsBufferRef_y();
+  for (int64_t ix = cx - reach; ix <= cx + reach; ix++)
+    for (int64_t iy = cy - reach; iy <= cy + reach; iy++)
+      for (uint32_t idx = grid2d_.head(cellKey(ix, iy, 0)); idx != detail::CellIndex::kNone;
+           idx = grid2d_.next(idx))
+      {
+        if (idx >= older_end) continue;
+        const double ex = xs[idx] - x, ey = ys[idx] - y;
+        if (ex * ex + ey * ey <= r2) return true;
+      }
+  return false;
+}
+
 bool Metaview::addPoint(mrpt::maps::CSimplePointsMap& pts, detail::CellIndex& grid, bool planar,
                         float x, float y, float z)
 {
@@ -161,6 +187,8 @@ std::size_t Metaview::insert(const mrpt::maps::CPointsMap& cloud_robot, const mr
   const auto& ys = cloud_robot.getPointsBufferRef_y();
   const auto& zs = cloud_robot.getPointsBufferRef_z();
   const std::size_t before = points_.size();
+  const bool dup = params_.d_dup_2d_m > 0 && params_.d_min_m > 0;
+  const uint32_t older_end = static_cast<uint32_t>(points2d_.size());  // this block's first
   const Eigen::Vector2f viewpoint(static_cast<float>(T_map_robot.x()), static_cast<float>(T_map_robot.y()));
   for (std::size_t i = 0; i < xs.size(); i++)
   {
@@ -168,6 +196,7 @@ std::size_t Metaview::insert(const mrpt::maps::CPointsMap& cloud_robot, const mr
     const float y = static_cast<float>(T_map_robot.y() + s * xs[i] + c * ys[i]);
     if (!usable(x) || !usable(y) || !usable(zs[i])) continue;
     addPoint(points_, grid_, false, x, y, zs[i]);
+    if (dup && hasOlderFootprintPointWithin(x, y, older_end)) continue;
     if (addPoint(points2d_, grid2d_, true, x, y, 0.0f)) viewpoints2d_.push_back(viewpoint);
   }
   points_.mark_as_modified();  // KD-trees rebuilt on next query
