@@ -577,7 +577,7 @@ TEST(LoopClosure, RingCorridorReplayClosesTheLoopAndCorrectsEveryOutput)
                 "/loop.txt --robot compact --out " + dir + "/sim"),
             0);
   // config/replay.ini with the thesis' registration ([icp] same_side_only
-  // false, normal_radius_small_m 0): ICP shortens the steps along the
+  // false, normal_radius_small_m 0, [metaview] d_dup_2d_m 0): ICP shortens the steps along the
   // corridor (walls slide onto the faces seen from their other side) and
   // the loop has 10 cm to close. Then config/replay.ini as it is, and with
   // [icp] odometry_prior_pairs = 50.
@@ -602,9 +602,11 @@ TEST(LoopClosure, RingCorridorReplayClosesTheLoopAndCorrectsEveryOutput)
   // and (whole.ini) all at the closing stop.
   iniWith("thesis.ini", {{"same_side_only", "false"},
                          {"normal_radius_small_m", "0"},
+                         {"d_dup_2d_m", "0"},
                          {"octomap_rebuild_per_stop", "3"}});
   iniWith("whole.ini", {{"same_side_only", "false"},
                         {"normal_radius_small_m", "0"},
+                        {"d_dup_2d_m", "0"},
                         {"octomap_rebuild_per_stop", "0"}});
   iniWith("prior.ini", {{"odometry_prior_pairs", "50"}});
   ASSERT_EQ(run(bin + "/voxplore-replay --config " + dir + "/thesis.ini --rawlog " + dir +

@@ -129,6 +129,7 @@ TEST(Metaview, AWallSeenAgainAFewCmOffIsNotDrawnTwiceInTheFootprint)
   {
     mapping::MetaviewParams p;
     p.d_dup_2d_m = dup;
+    p.d_dup_after_m = 0;  // against every earlier stop
     mapping::Metaview m(p);
     m.insert(wall(1.0f, 0.0f), CPose2D());
     const std::size_t first = m.footprint().size();
@@ -147,6 +148,46 @@ TEST(Metaview, AWallSeenAgainAFewCmOffIsNotDrawnTwiceInTheFootprint)
     m.insert(wall(1.5f, 3.0f), CPose2D());
     EXPECT_GE(m.footprint().size() - before, first - 2);
   }
+}
+
+TEST(Metaview, OnlyStopsFarEnoughBackKeepAWallFromBeingDrawnAgain)
+{
+  // d_dup_after_m 12: the same wall seen again 3 cm off from a stop 5 m of
+  // travel on is drawn again (the last metres keep every view); from a stop
+  // 13 m on (a return) it is not.
+  mrpt::maps::CSimplePointsMap wall, again;
+  for (int i = 0; i < 200; i++)
+  {
+    wall.insertPoint(0.01f * i, 1.0f, 0.3f);
+    again.insertPoint(0.01f * i, 1.03f, 0.3f);
+  }
+  const auto drawnAt = [](const mapping::Metaview& m, float y)
+  {
+    std::size_t n = 0;
+    for (std::size_t i = 0; i < m.footprint().size(); i++)
+    {
+      float px, py, pz;
+      m.footprint().getPoint(i, px, py, pz);
+      n += std::abs(py - y) < 0.005f;
+    }
+    return n;
+  };
+  mapping::MetaviewParams p;
+  p.d_dup_2d_m = 0.04;
+  p.d_dup_after_m = 12;
+  // Clouds in the robot frame: the robot moves along y = -20 and back, the
+  // wall stays where it is in the map frame.
+  mapping::Metaview near(p), far(p);
+  const mrpt::maps::CSimplePointsMap none;
+  near.insert(wall, CPose2D());
+  near.insert(none, CPose2D(5, 0, 0));
+  near.insert(again, CPose2D());  // 10 m of travel since the first stop
+  EXPECT_GT(drawnAt(near, 1.03f), 60u) << "a stop within 12 m: both versions";
+  far.insert(wall, CPose2D());
+  far.insert(none, CPose2D(6.5, 0, 0));
+  far.insert(again, CPose2D());  // 13 m
+  EXPECT_EQ(drawnAt(far, 1.03f), 0u) << "a return 13 m on: one version";
+  EXPECT_GT(drawnAt(far, 1.0f), 60u);
 }
 
 TEST(Metaview, RepositionMovesEachKeyframesPointsWithItsPose)

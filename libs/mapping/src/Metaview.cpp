@@ -18,12 +18,15 @@ void MetaviewParams::loadFromConfigFile(const mrpt::config::CConfigFileBase& c, 
   common::requireValid(d_dup_2d_m >= 0 && d_dup_2d_m < 1, c, s, "d_dup_2d_m", "must be in [0, 1) m");
   common::requireValid(d_dup_2d_m == 0 || d_min_m > 0, c, s, "d_dup_2d_m",
                        "needs d_min_m > 0 (its cells index the footprint)");
+  MRPT_LOAD_CONFIG_VAR(d_dup_after_m, double, c, s);
+  common::requireValid(d_dup_after_m >= 0, c, s, "d_dup_after_m", "must be >= 0 m");
 }
 
 void MetaviewParams::saveToConfigFile(mrpt::config::CConfigFileBase& c, const std::string& s) const
 {
   MRPT_SAVE_CONFIG_VAR(d_min_m, c, s);
   MRPT_SAVE_CONFIG_VAR(d_dup_2d_m, c, s);
+  MRPT_SAVE_CONFIG_VAR(d_dup_after_m, c, s);
 }
 
 Metaview::Metaview(const MetaviewParams& params) : params_(params) {}
@@ -179,16 +182,32 @@ std::size_t Metaview::insert(const mrpt::maps::CPointsMap& cloud_robot, const mr
 {
   // Every call is a block (empty when nothing is added), so that blocks
   // stay one per keyframe for reposition().
+  double travel = 0;
+  if (!blocks_.empty())
+    travel = blocks_.back().travel_m + std::hypot(T_map_robot.x() - blocks_.back().pose.x(),
+                                                  T_map_robot.y() - blocks_.back().pose.y());
+  if (!std::isfinite(travel)) travel = blocks_.empty() ? 0 : blocks_.back().travel_m;
+  // The footprint points of the stops d_dup_after_m or more of travel back:
+  // the blocks before the first one nearer than that.
+  uint32_t older_end = static_cast<uint32_t>(points2d_.size());
+  if (params_.d_dup_after_m > 0)
+  {
+    older_end = 0;
+    for (const Block& b : blocks_)
+    {
+      if (b.travel_m > travel - params_.d_dup_after_m) break;
+      older_end = b.end2d;
+    }
+  }
   blocks_.push_back({T_map_robot, static_cast<uint32_t>(points_.size()),
-                     static_cast<uint32_t>(points2d_.size())});
+                     static_cast<uint32_t>(points2d_.size()), travel});
   if (!usable(T_map_robot)) return 0;
   const double c = std::cos(T_map_robot.phi()), s = std::sin(T_map_robot.phi());
   const auto& xs = cloud_robot.getPointsBufferRef_x();
   const auto& ys = cloud_robot.getPointsBufferRef_y();
   const auto& zs = cloud_robot.getPointsBufferRef_z();
   const std::size_t before = points_.size();
-  const bool dup = params_.d_dup_2d_m > 0 && params_.d_min_m > 0;
-  const uint32_t older_end = static_cast<uint32_t>(points2d_.size());  // this block's first
+  const bool dup = params_.d_dup_2d_m > 0 && params_.d_min_m > 0 && older_end > 0;
   const Eigen::Vector2f viewpoint(static_cast<float>(T_map_robot.x()), static_cast<float>(T_map_robot.y()));
   for (std::size_t i = 0; i < xs.size(); i++)
   {
