@@ -215,8 +215,19 @@ std::size_t Metaview::insert(const mrpt::maps::CPointsMap& cloud_robot, const mr
     const float y = static_cast<float>(T_map_robot.y() + s * xs[i] + c * ys[i]);
     if (!usable(x) || !usable(y) || !usable(zs[i])) continue;
     addPoint(points_, grid_, false, x, y, zs[i]);
-    if (dup && hasOlderFootprintPointWithin(x, y, older_end)) continue;
-    if (addPoint(points2d_, grid2d_, true, x, y, 0.0f)) viewpoints2d_.push_back(viewpoint);
+    if (!dup)
+    {
+      if (addPoint(points2d_, grid2d_, true, x, y, 0.0f)) viewpoints2d_.push_back(viewpoint);
+      continue;
+    }
+    // d_min first: it refuses most points (the stops overlap), and looks at
+    // 9 cells where d_dup_2d_m looks at (2 ceil(d_dup / d_min) + 1)^2.
+    if (hasNeighbourWithin(points2d_, grid2d_, true, x, y, 0.0f) ||
+        hasOlderFootprintPointWithin(x, y, older_end))
+      continue;
+    grid2d_.add(cellOf(x, y, 0.0f, true), static_cast<uint32_t>(points2d_.size()));
+    points2d_.insertPointFast(x, y, 0.0f);
+    viewpoints2d_.push_back(viewpoint);
   }
   points_.mark_as_modified();  // KD-trees rebuilt on next query
   points2d_.mark_as_modified();

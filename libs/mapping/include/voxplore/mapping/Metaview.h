@@ -16,8 +16,8 @@ struct MetaviewParams : public mrpt::config::CLoadableOptions
 {
   double d_min_m = 0.02;  ///< a point joins only if no metaview point is closer (thesis d_min) [m]
   /// The floor-plane footprint (the planar ICP's model) takes a point only
-  /// when no footprint point of an earlier insert() is within this distance;
-  /// d_min_m still spaces the points of one insert(). A wall seen again a
+  /// when no footprint point of a stop d_dup_after_m or more of travel back
+  /// is within this distance; d_min_m still spaces the rest. A wall seen again a
   /// few cm off (registration scatter, drift) is not drawn a second time
   /// beside the first, so the next registrations have one version of it to
   /// lock onto, not two (fifty-second session: b3 compact nearest s3's
