@@ -24,7 +24,10 @@ struct MetaviewParams : public mrpt::config::CLoadableOptions
   /// estimate swung 5-9 cm in x from stop to stop between two versions of
   /// the same walls at goodness 0.99-1.0). 0 = the thesis: d_min_m only.
   /// Our own (the thesis' reduction keeps every point farther than d_min).
-  double d_dup_2d_m = 0.04;
+  /// Off by default: 0.04 m (with d_dup_after_m 12) was no better on the
+  /// 40-run campaign, online or replayed both ways (BENCHMARKS.md,
+  /// fifty-third session).
+  double d_dup_2d_m = 0;
   /// d_dup_2d_m holds against the footprint points of stops at least this
   /// much travel (the path between the stops' poses) before the new one
   /// only; the nearer stops' points keep the thesis' d_min_m. 0 = against
