@@ -3,7 +3,9 @@
 
 #include "cell_key.h"
 
+#include <algorithm>
 #include <cmath>
+#include <iterator>
 #include <stdexcept>
 #include <string>
 #include <utility>
@@ -118,60 +120,46 @@ void CellIndex::add(uint64_t key, uint32_t i)
 }  // namespace detail
 
 bool Metaview::hasNeighbourWithin(const mrpt::maps::CSimplePointsMap& pts, const detail::CellIndex& grid,
-                                  bool planar, float x, float y, float z) const
+                                  bool planar, float x, float y, float z, double radius,
+                                  uint32_t below) const
 {
   // thesis 4.4.2: a point is integrated only if ||m_k - p_i|| > d_min for all m_k in M.
   const double d = params_.d_min_m;
-  const double d2 = d * d;
+  const double r2 = radius * radius;
+  const int64_t reach = static_cast<int64_t>(std::ceil(radius / d));  // cells of d_min
   const int64_t cx = static_cast<int64_t>(std::floor(x / d));
   const int64_t cy = static_cast<int64_t>(std::floor(y / d));
   const int64_t cz = planar ? 0 : static_cast<int64_t>(std::floor(z / d));
-  const int64_t dz = planar ? 0 : 1;
+  const int64_t dz = planar ? 0 : reach;
   const auto& xs = pts.getPointsBufferRef_x();
   const auto& ys = pts.getPointsBufferRef_y();
   const auto& zs = pts.getPointsBufferRef_z();
-  for (int64_t ix = cx - 1; ix <= cx + 1; ix++)
-    for (int64_t iy = cy - 1; iy <= cy + 1; iy++)
+  for (int64_t ix = cx - reach; ix <= cx + reach; ix++)
+    for (int64_t iy = cy - reach; iy <= cy + reach; iy++)
       for (int64_t iz = cz - dz; iz <= cz + dz; iz++)
       {
         for (uint32_t idx = grid.head(cellKey(ix, iy, iz)); idx != detail::CellIndex::kNone;
              idx = grid.next(idx))
         {
+          if (idx >= below) continue;
           const double ex = xs[idx] - x, ey = ys[idx] - y, ez = zs[idx] - z;
-          if (ex * ex + ey * ey + ez * ez <= d2) return true;
+          if (ex * ex + ey * ey + ez * ez <= r2) return true;
         }
       }
   return false;
 }
 
-bool Metaview::hasOlderFootprintPointWithin(float x, float y, uint32_t older_end) const
-{
-  const double d = params_.d_min_m, r = params_.d_dup_2d_m;
-  const double r2 = r * r;
-  const int64_t reach = static_cast<int64_t>(std::ceil(r / d));
-  const int64_t cx = static_cast<int64_t>(std::floor(x / d));
-  const int64_t cy = static_cast<int64_t>(std::floor(y / d));
-  const auto& xs = points2d_.getPointsBufferRef_x();
-  const auto& ys = points2d_.getPointsBufferRef_y();
-  for (int64_t ix = cx - reach; ix <= cx + reach; ix++)
-    for (int64_t iy = cy - reach; iy <= cy + reach; iy++)
-      for (uint32_t idx = grid2d_.head(cellKey(ix, iy, 0)); idx != detail::CellIndex::kNone;
-           idx = grid2d_.next(idx))
-      {
-        if (idx >= older_end) continue;
-        const double ex = xs[idx] - x, ey = ys[idx] - y;
-        if (ex * ex + ey * ey <= r2) return true;
-      }
-  return false;
-}
-
 bool Metaview::addPoint(mrpt::maps::CSimplePointsMap& pts, detail::CellIndex& grid, bool planar,
-                        float x, float y, float z)
+                        float x, float y, float z, uint32_t older_end)
 {
   const double d = params_.d_min_m;
   if (d > 0)
   {
-    if (hasNeighbourWithin(pts, grid, planar, x, y, z)) return false;
+    // d_min first: it refuses most points (the stops overlap) and looks at 9
+    // (27) cells, d_dup_2d_m at (2 ceil(d_dup / d_min) + 1)^2.
+    if (hasNeighbourWithin(pts, grid, planar, x, y, z, d)) return false;
+    if (older_end > 0 && hasNeighbourWithin(pts, grid, planar, x, y, z, params_.d_dup_2d_m, older_end))
+      return false;
     grid.add(cellOf(x, y, z, planar), static_cast<uint32_t>(pts.size()));
   }
   pts.insertPointFast(x, y, z);
@@ -187,17 +175,16 @@ std::size_t Metaview::insert(const mrpt::maps::CPointsMap& cloud_robot, const mr
     travel = blocks_.back().travel_m + std::hypot(T_map_robot.x() - blocks_.back().pose.x(),
                                                   T_map_robot.y() - blocks_.back().pose.y());
   if (!std::isfinite(travel)) travel = blocks_.empty() ? 0 : blocks_.back().travel_m;
-  // The footprint points of the stops d_dup_after_m or more of travel back:
-  // the blocks before the first one nearer than that.
-  uint32_t older_end = static_cast<uint32_t>(points2d_.size());
-  if (params_.d_dup_after_m > 0)
+  // With d_dup_2d_m, the footprint points of the stops d_dup_after_m or more
+  // of travel back (the blocks before the first one nearer than that; the
+  // travel only grows along blocks_); 0 = no such stop, the rule is off.
+  uint32_t older_end = 0;
+  if (params_.d_dup_2d_m > 0 && params_.d_min_m > 0)
   {
-    older_end = 0;
-    for (const Block& b : blocks_)
-    {
-      if (b.travel_m > travel - params_.d_dup_after_m) break;
-      older_end = b.end2d;
-    }
+    const auto nearer = std::partition_point(
+        blocks_.begin(), blocks_.end(),
+        [&](const Block& b) { return b.travel_m <= travel - params_.d_dup_after_m; });
+    older_end = nearer == blocks_.begin() ? 0 : std::prev(nearer)->end2d;
   }
   blocks_.push_back({T_map_robot, static_cast<uint32_t>(points_.size()),
                      static_cast<uint32_t>(points2d_.size()), travel});
@@ -207,7 +194,6 @@ std::size_t Metaview::insert(const mrpt::maps::CPointsMap& cloud_robot, const mr
   const auto& ys = cloud_robot.getPointsBufferRef_y();
   const auto& zs = cloud_robot.getPointsBufferRef_z();
   const std::size_t before = points_.size();
-  const bool dup = params_.d_dup_2d_m > 0 && params_.d_min_m > 0 && older_end > 0;
   const Eigen::Vector2f viewpoint(static_cast<float>(T_map_robot.x()), static_cast<float>(T_map_robot.y()));
   for (std::size_t i = 0; i < xs.size(); i++)
   {
@@ -215,19 +201,7 @@ std::size_t Metaview::insert(const mrpt::maps::CPointsMap& cloud_robot, const mr
     const float y = static_cast<float>(T_map_robot.y() + s * xs[i] + c * ys[i]);
     if (!usable(x) || !usable(y) || !usable(zs[i])) continue;
     addPoint(points_, grid_, false, x, y, zs[i]);
-    if (!dup)
-    {
-      if (addPoint(points2d_, grid2d_, true, x, y, 0.0f)) viewpoints2d_.push_back(viewpoint);
-      continue;
-    }
-    // d_min first: it refuses most points (the stops overlap), and looks at
-    // 9 cells where d_dup_2d_m looks at (2 ceil(d_dup / d_min) + 1)^2.
-    if (hasNeighbourWithin(points2d_, grid2d_, true, x, y, 0.0f) ||
-        hasOlderFootprintPointWithin(x, y, older_end))
-      continue;
-    grid2d_.add(cellOf(x, y, 0.0f, true), static_cast<uint32_t>(points2d_.size()));
-    points2d_.insertPointFast(x, y, 0.0f);
-    viewpoints2d_.push_back(viewpoint);
+    if (addPoint(points2d_, grid2d_, true, x, y, 0.0f, older_end)) viewpoints2d_.push_back(viewpoint);
   }
   points_.mark_as_modified();  // KD-trees rebuilt on next query
   points2d_.mark_as_modified();

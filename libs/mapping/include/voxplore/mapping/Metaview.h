@@ -140,14 +140,16 @@ class Metaview
   uint64_t cellKey(int64_t ix, int64_t iy, int64_t iz) const;
   /// The d_min cell of a point (z ignored when planar).
   uint64_t cellOf(float x, float y, float z, bool planar) const;
+  /// Whether a point of `pts` with index < `below` is within `radius` (z
+  /// ignored when planar) of (x, y, z).
   bool hasNeighbourWithin(const mrpt::maps::CSimplePointsMap& pts, const detail::CellIndex& grid,
-                          bool planar, float x, float y, float z) const;
-  /// Whether a footprint point with index < `older_end` is within
-  /// d_dup_2d_m of (x, y).
-  bool hasOlderFootprintPointWithin(float x, float y, uint32_t older_end) const;
+                          bool planar, float x, float y, float z, double radius,
+                          uint32_t below = detail::CellIndex::kNone) const;
+  /// Adds the point unless a point of `pts` is within d_min_m, or one with
+  /// index < `older_end` within d_dup_2d_m (0: no such test).
   /// @return whether the point was added
   bool addPoint(mrpt::maps::CSimplePointsMap& pts, detail::CellIndex& grid, bool planar, float x,
-                float y, float z);
+                float y, float z, uint32_t older_end = 0);
 };
 
 }  // namespace voxplore::mapping
