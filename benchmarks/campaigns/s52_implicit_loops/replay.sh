@@ -1,11 +1,9 @@
 #!/bin/bash
-# replay.sh BIN TAG RUN_DIR [key=value ...]
+# replay.sh BIN TAG RUN_DIR [key=value ...]: the fifty-second session's form,
+# whose keys are [loop_closure] keys; runs ../s53_metaview_dup/replay.sh
+# (section.key=value) with them.
+set -euo pipefail
 BIN=$1; TAG=$2; R=$3; shift 3
-N=$(basename $R); O=out/rp/$TAG/$N; mkdir -p $O
-python3 benchmarks/campaigns/s52_implicit_loops/mkrp.py $R/params.ini $O/slam.ini "$@"
-$BIN/voxplore-replay -q -r $R/run.rawlog -c $O/slam.ini -g $R/trajectory_gt.tum -o $O > $O/log.txt 2>&1
-cp $R/trajectory_gt.tum $O/
-python3 -c "
-import json; d=json.load(open('$O/summary.json')); b=json.load(open('$R/summary.json'))
-print('$TAG $N', 'ate', round(b['ate_rmse_m'],4), '->', round(d['ate_rmse_m'],4), 'online', round(d.get('ate_online_rmse_m',0),4), 'closures', b.get('loop_closures'), '->', d.get('loop_closures'), 'prec', d.get('map_precision_above_floor'))
-"
+args=()
+for kv in "$@"; do args+=("loop_closure.$kv"); done
+exec "$(dirname "$0")/../s53_metaview_dup/replay.sh" "$BIN" "$TAG" "$R" "${args[@]}"

@@ -5,7 +5,7 @@
 set -euo pipefail
 BIN=$1; TAG=$2; R=$3; shift 3
 N=$(basename "$R"); O=out/rp/$TAG/$N; mkdir -p "$O"
-python3 benchmarks/campaigns/s53_metaview_dup/mkrp.py "$R/params.ini" "$O/slam.ini" "$@"
+python3 "$(dirname "$0")/mkrp.py" "$R/params.ini" "$O/slam.ini" "$@"
 "$BIN/voxplore-replay" -q -r "$R/run.rawlog" -c "$O/slam.ini" -g "$R/trajectory_gt.tum" -o "$O" > "$O/log.txt" 2>&1
 cp "$R/trajectory_gt.tum" "$O/"
 python3 -c "
