@@ -1274,3 +1274,100 @@ TEST(FootprintSpace, ARobotBetweenTableLegsWhoseReachIsShorterThanItsBodyEscapes
   const Eigen::Vector2d last = path->waypoints.back();
   EXPECT_FALSE(clipsAWall(f.g, CPose2D(last.x(), last.y(), path->yaws.back()), 0.25, 0.18));
 }
+
+// FootprintSpace::nearestReachedYaw ([sampling] rate_reached_yaw): in a
+// corridor narrower than the body is long, a yaw along it is kept, a yaw
+// across it becomes the nearest yaw the robot can stand at there, and a cell
+// in the wall has none.
+TEST(FootprintSpace, TheNearestReachedYawIsTheWantedOneWhereReachedElseTheNearestReachedBin)
+{
+  GroundGrid g = makeGround(-4.2, 4.2, -0.7, 0.7, kRes, GroundState::Occupied);
+  paint(g, -4.0, 4.0, -0.5, 0.5, GroundState::Free);  // 1.0 m wide: the 1.2 m body stays lengthwise
+  const CPose2D robot(0.0, 0.0, 0.0);
+  const Planned pl = footprintSpaceOf(g, robot);
+  const std::size_t nx = pl.fs.reach.getSizeX();
+  Cell c;
+  ASSERT_TRUE(cellOf(pl.fs.reach, Eigen::Vector2d(1.0, 0.0), c));
+  const std::size_t i = static_cast<std::size_t>(c.cy) * nx + c.cx;
+  const YawMask m = pl.fs.reach.data()[i];
+  ASSERT_TRUE(m & 1u) << "along the corridor is reached";
+  ASSERT_FALSE((m >> pl.fs.binOf(M_PI / 2)) & 1u) << "across it is not";
+
+  const auto along = pl.fs.nearestReachedYaw(i, 0.02);
+  ASSERT_TRUE(along);
+  EXPECT_DOUBLE_EQ(*along, 0.02) << "a reached bin keeps the yaw asked for";
+  const auto behind = pl.fs.nearestReachedYaw(i, M_PI + 0.02);
+  ASSERT_TRUE(behind);
+  EXPECT_DOUBLE_EQ(*behind, M_PI + 0.02) << "the half turn of a reached bin is reached";
+
+  for (const double want : {M_PI / 2, -M_PI / 2, mrpt::DEG2RAD(60.0), mrpt::DEG2RAD(-120.0)})
+  {
+    const auto got = pl.fs.nearestReachedYaw(i, want);
+    ASSERT_TRUE(got) << want;
+    EXPECT_TRUE((m >> pl.fs.binOf(*got)) & 1u) << "reached: " << *got;
+    // The nearest reached bin: no reached bin is nearer the wanted yaw.
+    const double off = std::abs(mrpt::math::wrapToPi(2.0 * (*got - want))) / 2.0;
+    for (int k = 0; k < pl.fs.bins; ++k)
+    {
+      if (!((m >> k) & 1u)) continue;
+      EXPECT_LE(off, std::abs(mrpt::math::wrapToPi(2.0 * (pl.fs.binYaw(k) - want))) / 2.0 + 1e-9)
+          << "bin " << k << " is nearer " << want;
+    }
+    // The half turn nearer the wanted yaw: within a quarter turn of it.
+    EXPECT_LE(std::abs(mrpt::math::wrapToPi(*got - want)), M_PI / 2 + 1e-9) << want << " -> " << *got;
+  }
+
+  ASSERT_TRUE(cellOf(pl.fs.reach, Eigen::Vector2d(1.0, 0.65), c));  // in the wall
+  EXPECT_FALSE(pl.fs.nearestReachedYaw(static_cast<std::size_t>(c.cy) * nx + c.cx, 0.0));
+}
+
+// [sampling] rate_reached_yaw, plan(): next-best-view samples beside a door
+// in a corridor are rated, and the target is set, at yaws the omniRob's
+// rectangle can stand at; facing the door (the thesis' yaw) it often cannot.
+TEST(FootprintPlanner, NextBestViewSamplesAreRatedAtTheYawTheRobotWillStandAt)
+{
+  // A corridor 2.2 m wide along y, a 1.0 m door in its east wall to unknown.
+  octomap::OcTree t(kRes);
+  voxplore::test::addRoom(t, -1.1, 1.1, -4.0, 4.0);
+  voxplore::test::setColumns(t, 1.1, 1.4, -0.5, 0.5, false);  // the door, seen a little beyond
+  voxplore::test::setColumns(t, 1.1, 1.4, -0.55, -0.5, true);  // its jambs
+  voxplore::test::setColumns(t, 1.1, 1.4, 0.5, 0.55, true);
+  PlannerParams p = omniRobNearest();
+  p.strategy = Strategy::NextBestView;
+  p.sampling.max_samples = 40;
+  const CPose2D robot(0.0, -2.5, M_PI / 2);
+
+  const auto unreachedYaws = [](const PlanResult& r)
+  {
+    std::size_t n = 0;
+    const std::size_t nx = r.footprint->reach.getSizeX();
+    for (const CPose2D& s : r.samples)
+    {
+      Cell c;
+      if (!cellOf(r.footprint->reach, Eigen::Vector2d(s.x(), s.y()), c)) return std::size_t(1000);
+      const YawMask m = r.footprint->reach.data()[static_cast<std::size_t>(c.cy) * nx + c.cx];
+      n += !((m >> r.footprint->binOf(s.phi())) & 1u);
+    }
+    return n;
+  };
+
+  p.sampling.rate_reached_yaw = false;
+  const PlanResult facing = plan(t, robot, p);
+  ASSERT_TRUE(facing.ok()) << facing.message;
+  ASSERT_TRUE(facing.footprint);
+  ASSERT_GE(facing.samples.size(), 10u);
+  EXPECT_GT(unreachedYaws(facing), 0u) << "facing the door is a yaw some samples cannot stand at";
+
+  p.sampling.rate_reached_yaw = true;
+  const PlanResult stood = plan(t, robot, p);
+  ASSERT_TRUE(stood.ok()) << stood.message;
+  ASSERT_TRUE(stood.footprint);
+  ASSERT_EQ(stood.samples.size(), facing.samples.size()) << "the same cells";
+  EXPECT_EQ(unreachedYaws(stood), 0u);
+  // The target stands at the yaw its sample was rated at.
+  const auto rated = std::find_if(stood.samples.begin(), stood.samples.end(), [&](const CPose2D& s)
+                                  { return std::hypot(s.x() - stood.target.x(), s.y() - stood.target.y()) < 1e-9; });
+  ASSERT_NE(rated, stood.samples.end());
+  EXPECT_NEAR(std::abs(mrpt::math::wrapToPi(2.0 * (rated->phi() - stood.target.phi()))) / 2.0, 0.0,
+              stood.footprint->binWidth() / 2 + 1e-9);
+}

@@ -95,7 +95,24 @@ struct Candidate
   CPose2D pose;
   std::size_t frontier = 0;
   double utility = 0;
+  /// Rated at pose's yaw where the robot will stand (rate_reached_yaw): the
+  /// path ends in that yaw's bin.
+  bool stand_at_yaw = false;
 };
+
+/// Each sample's yaw becomes the one the robot will stand at there (the
+/// reached bin nearest the yaw facing the frontier), so that it is rated
+/// for the view it will have (SamplingParams::rate_reached_yaw).
+void standAtReachedYaws(const FootprintSpace& fs, std::vector<CPose2D>& samples)
+{
+  for (auto& s : samples)
+  {
+    Cell c;
+    if (!cellOf(fs.reach, Eigen::Vector2d(s.x(), s.y()), c)) continue;
+    const std::size_t i = static_cast<std::size_t>(c.cx) + static_cast<std::size_t>(c.cy) * fs.reach.getSizeX();
+    if (const auto yaw = fs.nearestReachedYaw(i, s.phi())) s.phi(*yaw);
+  }
+}
 
 /// The nearest strategy's target views its frontier from the stand-off
 /// (footprint model, SamplingParams::view_standoff_m), not from the frontier.
@@ -128,7 +145,8 @@ std::optional<SkipReason> candidatesFor(
   r.sample_space.insert(r.sample_space.end(), space.begin(), space.end());
   std::seed_seq seq{static_cast<uint32_t>(p.seed), static_cast<uint32_t>(step), static_cast<uint32_t>(fi)};
   std::mt19937_64 rng(seq);
-  const auto samples = samplePoses(r.space->state, space, f, p.sampling, rng);
+  auto samples = samplePoses(r.space->state, space, f, p.sampling, rng);
+  if (r.footprint && p.sampling.rate_reached_yaw) standAtReachedYaws(*r.footprint, samples);
   r.ms.sampling += 1e3 * tic.Tac();
   if (samples.empty()) return SkipReason::NoSamples;
   tic.Tic();
@@ -156,7 +174,7 @@ std::optional<SkipReason> candidatesFor(
       }
       u *= std::exp(-p.sampling.travel_cost_per_m * d);
     }
-    out.push_back({samples[i], fi, u});
+    out.push_back({samples[i], fi, u, r.footprint && p.sampling.rate_reached_yaw});
   }
   return std::nullopt;
 }
@@ -178,7 +196,7 @@ bool pathToBest(const CPose2D& robot, const PlannerParams& p, std::vector<Candid
     if (r.footprint && footprint_cost.empty())
       footprint_cost = footprintCostFromStart(*r.space, *r.footprint, p.path);
     auto path = r.footprint ? planFootprintPath(*r.space, *r.footprint, robot, goal, c.phi(),
-                                                p.path, &footprint_cost)
+                                                p.path, &footprint_cost, cand.stand_at_yaw)
                             : planPath(*r.space, start, goal, p.path);
     if (!path) continue;
     r.path = std::move(path);

@@ -71,7 +71,7 @@ double nearestRepresentative(double y, double ref)
 std::optional<Path> planFootprintPath(
     const CollisionSpace& cs, const FootprintSpace& fs, const mrpt::poses::CPose2D& start,
     const Eigen::Vector2d& goal, double goal_yaw, const PathParams& p,
-    const std::vector<float>* cost_from_start)
+    const std::vector<float>* cost_from_start, bool end_in_goal_bin)
 {
   ASSERTMSG_(p.max_segment_m > 0, "planFootprintPath: max_segment_m must be > 0");
   Cell sc, tc;
@@ -105,7 +105,13 @@ std::optional<Path> planFootprintPath(
     own = costFromCell(cs, fs, p, sc);
   }
   const std::vector<float>& from_start = fits ? *cost_from_start : own;
-  std::vector<std::size_t> states = search.run(s_cell, s_bin, t_cell, from_start);
+  std::vector<std::size_t> states;
+  if (end_in_goal_bin)
+  {
+    states = search.run(s_cell, s_bin, t_cell, from_start, YawMask(1) << fs.binOf(goal_yaw));
+    if (states.empty()) search.forget();
+  }
+  if (states.empty()) states = search.run(s_cell, s_bin, t_cell, from_start);
   if (states.empty())
   {
     // The reach holds the goal (tested above) through the escape's turns:

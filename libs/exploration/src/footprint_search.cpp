@@ -88,13 +88,14 @@ bool SE2Search::mayTranslate(int cx, int cy, int k, int bin) const
 }
 
 std::vector<std::size_t> SE2Search::run(std::size_t start_cell, int start_bin,
-                                        std::size_t goal_cell, const std::vector<float>& from_start)
+                                        std::size_t goal_cell, const std::vector<float>& from_start,
+                                        YawMask goal_bins)
 {
   ASSERTMSG_(static_cast<double>(nx) * ny * bins < 4294967296.0,
              "SE2Search: the grid's cells x yaw bins exceed 2^32 states");
   IndexedHeap<OpenItem, OpenHandles> open(OpenHandles{&nodes}, std::move(t_open));
   const std::size_t s0 = start_cell * bins + start_bin;
-  const YawMask seeds = fs.allowed(goal_cell) & fs.reach.data()[goal_cell];
+  const YawMask seeds = fs.allowed(goal_cell) & fs.reach.data()[goal_cell] & goal_bins;
   for (int b = 0; b < bins; ++b)
   {
     if (!((seeds >> b) & 1u)) continue;

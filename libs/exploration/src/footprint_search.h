@@ -115,11 +115,12 @@ struct SE2Search
   /// into cell j: j allows the bin and, diagonally, both cells beside it do.
   bool mayTranslate(int cx, int cy, int k, int bin) const;
 
-  /// State indices start..goal cell (any bin); empty when not reached.
-  /// `from_start`: a lower bound of the cost from the start to each cell
-  /// (+infinity where the start cannot get).
+  /// State indices start..goal cell (in a bin of goal_bins); empty when not
+  /// reached. `from_start`: a lower bound of the cost from the start to each
+  /// cell (+infinity where the start cannot get).
   std::vector<std::size_t> run(std::size_t start_cell, int start_bin, std::size_t goal_cell,
-                               const std::vector<float>& from_start);
+                               const std::vector<float>& from_start,
+                               YawMask goal_bins = ~YawMask(0));
 
   Eigen::Vector2d center(std::size_t cell) const
   {

@@ -2,6 +2,7 @@
  * states clear of occupied and open unknown cells, and clear to turn (issue
  * 13); the reachability over them is in footprint_reach.cpp. */
 #include <mrpt/core/exceptions.h>
+#include <mrpt/math/wrap2pi.h>
 #include <voxplore/exploration/footprint.h>
 
 #include "footprint_reach.h"
@@ -98,6 +99,22 @@ YawMask FootprintSpace::turnClosure(YawMask seed, YawMask allowed) const
     if (next == m) return m;
     m = next;
   }
+}
+
+std::optional<double> FootprintSpace::nearestReachedYaw(std::size_t i, double yaw_rad) const
+{
+  const YawMask m = reach.data()[i];
+  if (!m) return std::nullopt;
+  const int want = binOf(yaw_rad);
+  for (int d = 0; d <= bins / 2; ++d)
+    for (const int b : {(want + d) % bins, (want - d + bins) % bins})
+      if ((m >> b) & 1u)
+      {
+        if (d == 0) return yaw_rad;
+        // The half turn of the bin's centre nearer yaw_rad.
+        return yaw_rad + mrpt::math::wrapToPi(2.0 * (binYaw(b) - yaw_rad)) / 2.0;
+      }
+  return std::nullopt;
 }
 
 FootprintSpace computeFootprintSpace(

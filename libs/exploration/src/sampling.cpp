@@ -119,6 +119,7 @@ void SamplingParams::loadFromConfigFile(const mrpt::config::CConfigFileBase& c,
   MRPT_LOAD_CONFIG_VAR(enclosed_unknown_m2, double, c, s);
   MRPT_LOAD_CONFIG_VAR(travel_cost_per_m, double, c, s);
   MRPT_LOAD_CONFIG_VAR(frontiers_rated, int, c, s);
+  MRPT_LOAD_CONFIG_VAR(rate_reached_yaw, bool, c, s);
   MRPT_LOAD_CONFIG_VAR(retire_looks, int, c, s);
   MRPT_LOAD_CONFIG_VAR(look_range_m, double, c, s);
   MRPT_LOAD_CONFIG_VAR(retire_pocket_m2, double, c, s);
@@ -160,6 +161,7 @@ void SamplingParams::saveToConfigFile(mrpt::config::CConfigFileBase& c, const st
   MRPT_SAVE_CONFIG_VAR(enclosed_unknown_m2, c, s);
   MRPT_SAVE_CONFIG_VAR(travel_cost_per_m, c, s);
   MRPT_SAVE_CONFIG_VAR(frontiers_rated, c, s);
+  MRPT_SAVE_CONFIG_VAR(rate_reached_yaw, c, s);
   MRPT_SAVE_CONFIG_VAR(retire_looks, c, s);
   MRPT_SAVE_CONFIG_VAR(look_range_m, c, s);
   MRPT_SAVE_CONFIG_VAR(retire_pocket_m2, c, s);

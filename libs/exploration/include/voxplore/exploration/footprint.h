@@ -82,6 +82,12 @@ struct FootprintSpace
   /// @brief The bins of `allowed` that turning in place from `seed` reaches
   ///        (circularly connected runs of `allowed` holding a bit of seed).
   YawMask turnClosure(YawMask seed, YawMask allowed) const;
+  /// @brief The yaw nearest `yaw_rad` at which the robot stands at the cell
+  ///        with row-major index i: `yaw_rad` itself when its bin is reached
+  ///        there, else the centre of the nearest reached bin, the half turn
+  ///        of it nearer `yaw_rad` (what planFootprintPath's final yaw
+  ///        turns to). Empty when no bin is reached at the cell.
+  std::optional<double> nearestReachedYaw(std::size_t i, double yaw_rad) const;
 };
 
 /// @brief The orientation collision space of the rectangle
@@ -136,10 +142,14 @@ void applyFootprint(CollisionSpace& cs, const FootprintSpace& fs);
 ///        is not in fs.robot's cell). The search runs from the goal back to
 ///        the start, guided by it (weighted A*, p.footprint_heuristic_weight:
 ///        the path costs at most that times the optimum).
+/// @param end_in_goal_bin the path ends in goal_yaw's bin (turning in place
+///        at the goal on the way when it must) where one exists, else as
+///        above: a target rated at goal_yaw is seen from there
+///        (SamplingParams::rate_reached_yaw).
 std::optional<Path> planFootprintPath(
     const CollisionSpace& cs, const FootprintSpace& fs, const mrpt::poses::CPose2D& start,
     const Eigen::Vector2d& goal, double goal_yaw, const PathParams& p,
-    const std::vector<float>* cost_from_start = nullptr);
+    const std::vector<float>* cost_from_start = nullptr, bool end_in_goal_bin = false);
 
 /// @brief Does the rectangle keep the turn margin (FootprintSpace::clear_turn,
 ///        whole bins) at every yaw from yaw0 to yaw1 (unwrapped: that way
