@@ -1314,7 +1314,8 @@ TEST(FootprintSpace, TheNearestReachedYawIsTheWantedOneWhereReachedElseTheNeares
           << "bin " << k << " is nearer " << want;
     }
     // The half turn nearer the wanted yaw: within a quarter turn of it.
-    EXPECT_LE(std::abs(mrpt::math::wrapToPi(*got - want)), M_PI / 2 + 1e-9) << want << " -> " << *got;
+    EXPECT_LE(std::abs(mrpt::math::wrapToPi(*got - want)), M_PI / 2 + 1e-9)
+        << want << " -> " << *got;
   }
 
   ASSERT_TRUE(cellOf(pl.fs.reach, Eigen::Vector2d(1.0, 0.65), c));  // in the wall
@@ -1365,8 +1366,9 @@ TEST(FootprintPlanner, NextBestViewSamplesAreRatedAtTheYawTheRobotWillStandAt)
   ASSERT_EQ(stood.samples.size(), facing.samples.size()) << "the same cells";
   EXPECT_EQ(unreachedYaws(stood), 0u);
   // The target stands at the yaw its sample was rated at.
-  const auto rated = std::find_if(stood.samples.begin(), stood.samples.end(), [&](const CPose2D& s)
-                                  { return std::hypot(s.x() - stood.target.x(), s.y() - stood.target.y()) < 1e-9; });
+  const auto at_target = [&](const CPose2D& s)
+  { return std::hypot(s.x() - stood.target.x(), s.y() - stood.target.y()) < 1e-9; };
+  const auto rated = std::find_if(stood.samples.begin(), stood.samples.end(), at_target);
   ASSERT_NE(rated, stood.samples.end());
   EXPECT_NEAR(std::abs(mrpt::math::wrapToPi(2.0 * (rated->phi() - stood.target.phi()))) / 2.0, 0.0,
               stood.footprint->binWidth() / 2 + 1e-9);

@@ -109,7 +109,8 @@ void standAtReachedYaws(const FootprintSpace& fs, std::vector<CPose2D>& samples)
   {
     Cell c;
     if (!cellOf(fs.reach, Eigen::Vector2d(s.x(), s.y()), c)) continue;
-    const std::size_t i = static_cast<std::size_t>(c.cx) + static_cast<std::size_t>(c.cy) * fs.reach.getSizeX();
+    const std::size_t nx = fs.reach.getSizeX();
+    const std::size_t i = static_cast<std::size_t>(c.cx) + static_cast<std::size_t>(c.cy) * nx;
     if (const auto yaw = fs.nearestReachedYaw(i, s.phi())) s.phi(*yaw);
   }
 }
