@@ -863,3 +863,36 @@ TEST(LoopClosure, AMatchThatSlidesAlongACorridorIsFoundByTheProbe)
     }
   }
 }
+
+// [loop_closure] min_points: a stop whose cloud has fewer points searches no
+// loop (willowgarage's open space: a loop closed 0.29-0.36 m off from stops
+// of 1,016-1,342 points). The ring's stops, all under the limit, close
+// nothing; at a limit under all of them the ring closes as before.
+TEST(LoopClosure, AStopWithASparseCloudSearchesNoLoop)
+{
+  const Scene scene = ringScene();
+  std::size_t fewest = std::numeric_limits<std::size_t>::max(), most = 0;
+  for (const CPose2D& t : ringPath())
+  {
+    const std::size_t n = scene.cloudAt(t).size();
+    fewest = std::min(fewest, n);
+    most = std::max(most, n);
+  }
+  ASSERT_GT(fewest, 0u);
+
+  LoopClosureParams sparse;
+  sparse.min_points = static_cast<int>(most) + 1;
+  LoopCloser lc_sparse(sparse, IcpParams{});
+  const auto r = runRing(lc_sparse, 0.04, 1.0);
+  EXPECT_EQ(r.searched, 0u);
+  EXPECT_EQ(r.closures, 0u);
+  EXPECT_GT(r.ate_after, 0.5) << "the drift stays";
+
+  LoopClosureParams dense;
+  dense.min_points = static_cast<int>(fewest);
+  LoopCloser lc_dense(dense, IcpParams{});
+  const auto d = runRing(lc_dense, 0.04, 1.0);
+  EXPECT_GT(d.searched, 0u);
+  EXPECT_GE(d.closures, 1u);
+  EXPECT_LT(d.ate_after, 0.1);
+}

@@ -255,6 +255,7 @@ LoopEvent LoopCloser::addKeyframe(std::size_t stop, const CPose2D& pose, const C
   kf.odometry = odometry;
   kf.travel_m = travel_m;
   kf.cloud = reduceCloud(cloud_robot, d_min_m);
+  kf.cloud_points = cloud_robot.size();
   const std::size_t k = keyframes_.size();
   graph_->net.nodes[k] = pose;
   // chain_recent_m: where old keyframes are near, the edge from the previous

@@ -24,6 +24,7 @@ void LoopClosureParams::loadFromConfigFile(const mrpt::config::CConfigFileBase& 
   MRPT_LOAD_CONFIG_VAR_DEGREES(min_window_yaw, c, s);
   MRPT_LOAD_CONFIG_VAR_DEGREES(max_window_yaw, c, s);
   MRPT_LOAD_CONFIG_VAR(min_goodness, double, c, s);
+  MRPT_LOAD_CONFIG_VAR(min_points, int, c, s);
   MRPT_LOAD_CONFIG_VAR(margin, double, c, s);
   MRPT_LOAD_CONFIG_VAR(probe_ratio, double, c, s);
   MRPT_LOAD_CONFIG_VAR(probe_m, double, c, s);
@@ -71,6 +72,7 @@ void LoopClosureParams::loadFromConfigFile(const mrpt::config::CConfigFileBase& 
   requireValid(min_window_yaw >= 0 && max_window_yaw >= min_window_yaw, c, s, "min_window_yaw",
                "must be >= 0 and <= max_window_yaw");
   requireValid(min_goodness > 0 && min_goodness <= 1, c, s, "min_goodness", "must be in (0, 1]");
+  requireValid(min_points >= 0, c, s, "min_points", "must be >= 0 (0 = no limit)");
   requireValid(margin >= 0 && margin < 1, c, s, "margin", "must be in [0, 1)");
   requireValid(probe_ratio >= 0 && probe_ratio <= 1, c, s, "probe_ratio",
                "must be in [0, 1] (0 = off)");
@@ -113,6 +115,7 @@ void LoopClosureParams::saveToConfigFile(mrpt::config::CConfigFileBase& c, const
   MRPT_SAVE_CONFIG_VAR_DEGREES(min_window_yaw, c, s);
   MRPT_SAVE_CONFIG_VAR_DEGREES(max_window_yaw, c, s);
   MRPT_SAVE_CONFIG_VAR(min_goodness, c, s);
+  MRPT_SAVE_CONFIG_VAR(min_points, c, s);
   MRPT_SAVE_CONFIG_VAR(margin, c, s);
   MRPT_SAVE_CONFIG_VAR(probe_ratio, c, s);
   MRPT_SAVE_CONFIG_VAR(probe_m, c, s);

@@ -115,6 +115,12 @@ std::optional<IcpResult> LoopCloser::match(LoopEvent& ev, std::size_t& anchor)
     }
   }
   if (!any) return std::nullopt;
+  if (params_.min_points > 0 && cur.cloud_points < static_cast<std::size_t>(params_.min_points))
+  {
+    ev.message = "no loop search: a cloud of " + std::to_string(cur.cloud_points) +
+                 " points, under min_points";
+    return std::nullopt;
+  }
   ev.searched = true;
   // One pass: the keyframes within submap_pass_m of travel of the nearest.
   double pass_lo = -std::numeric_limits<double>::infinity(), pass_hi = max_travel;
