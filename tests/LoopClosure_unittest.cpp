@@ -553,6 +553,18 @@ TEST(LoopClosure, BadKeysAreNamed)
   {
     EXPECT_NE(std::string(e.what()).find("min_goodness"), std::string::npos) << e.what();
   }
+  mrpt::config::CConfigFileMemory negative;
+  negative.write("loop_closure", "min_points", -1);
+  try
+  {
+    LoopClosureParams fresh;
+    voxplore::common::loadChecked(fresh, negative, "loop_closure");
+    FAIL() << "no error";
+  }
+  catch (const std::exception& e)
+  {
+    EXPECT_NE(std::string(e.what()).find("min_points"), std::string::npos) << e.what();
+  }
   mrpt::config::CConfigFileMemory typo;
   typo.write("loop_closure", "min_goodnes", 0.8);
   EXPECT_THROW(voxplore::common::loadChecked(p, typo, "loop_closure"), std::exception);
