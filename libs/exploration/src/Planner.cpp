@@ -147,7 +147,8 @@ std::optional<SkipReason> candidatesFor(
   std::seed_seq seq{static_cast<uint32_t>(p.seed), static_cast<uint32_t>(step), static_cast<uint32_t>(fi)};
   std::mt19937_64 rng(seq);
   auto samples = samplePoses(r.space->state, space, f, p.sampling, rng);
-  if (r.footprint && p.sampling.rate_reached_yaw) standAtReachedYaws(*r.footprint, samples);
+  const bool stand_at_yaw = r.footprint && p.sampling.rate_reached_yaw;
+  if (stand_at_yaw) standAtReachedYaws(*r.footprint, samples);
   r.ms.sampling += 1e3 * tic.Tac();
   if (samples.empty()) return SkipReason::NoSamples;
   tic.Tic();
@@ -175,7 +176,7 @@ std::optional<SkipReason> candidatesFor(
       }
       u *= std::exp(-p.sampling.travel_cost_per_m * d);
     }
-    out.push_back({samples[i], fi, u, r.footprint && p.sampling.rate_reached_yaw});
+    out.push_back({samples[i], fi, u, stand_at_yaw});
   }
   return std::nullopt;
 }

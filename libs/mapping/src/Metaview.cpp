@@ -158,7 +158,8 @@ bool Metaview::addPoint(mrpt::maps::CSimplePointsMap& pts, detail::CellIndex& gr
     // d_min first: it refuses most points (the stops overlap) and looks at 9
     // (27) cells, d_dup_2d_m at (2 ceil(d_dup / d_min) + 1)^2.
     if (hasNeighbourWithin(pts, grid, planar, x, y, z, d)) return false;
-    if (older_end > 0 && hasNeighbourWithin(pts, grid, planar, x, y, z, params_.d_dup_2d_m, older_end))
+    if (older_end > 0 &&
+        hasNeighbourWithin(pts, grid, planar, x, y, z, params_.d_dup_2d_m, older_end))
       return false;
     grid.add(cellOf(x, y, z, planar), static_cast<uint32_t>(pts.size()));
   }
@@ -201,7 +202,8 @@ std::size_t Metaview::insert(const mrpt::maps::CPointsMap& cloud_robot, const mr
     const float y = static_cast<float>(T_map_robot.y() + s * xs[i] + c * ys[i]);
     if (!usable(x) || !usable(y) || !usable(zs[i])) continue;
     addPoint(points_, grid_, false, x, y, zs[i]);
-    if (addPoint(points2d_, grid2d_, true, x, y, 0.0f, older_end)) viewpoints2d_.push_back(viewpoint);
+    if (addPoint(points2d_, grid2d_, true, x, y, 0.0f, older_end))
+      viewpoints2d_.push_back(viewpoint);
   }
   points_.mark_as_modified();  // KD-trees rebuilt on next query
   points2d_.mark_as_modified();
