@@ -219,6 +219,9 @@ TEST(Planner, ParamsRoundTripAndErrors)
   mrpt::config::CConfigFileMemory typo;
   typo.write("sampling", "max_sampels", 3);
   EXPECT_THROW(q.load(typo), std::exception);
+  mrpt::config::CConfigFileMemory negative;
+  negative.write("sampling", "unreached_min_unknown_m2", -1.0);
+  EXPECT_THROW(q.load(negative), std::exception);
 }
 
 TEST(Planner, AutoFootprintMarginsFollowTheRobotsWidthAgainstTheDoor)
@@ -561,4 +564,83 @@ TEST(Planner, SeveralFrontiersRatedTogetherTheBestViewWins)
   const auto nearest = plan(V, robot, p);
   ASSERT_TRUE(nearest.ok()) << nearest.message;
   EXPECT_LT(nearest.frontier->center.x(), 0.0);
+}
+
+namespace
+{
+// The robot's 6 x 2 m room, a 0.6 m door in its north wall (y = 0) that the
+// 0.4 m circle cannot pass, and the room behind it (6 x 3 m, closed) known
+// free in its first 0.95 m, as seen through the door, and along its walls
+// (0.2 m): the rest is a closed pocket of unknown (5.6 x 1.8 m). With
+// `outside`, the strips along its walls are unseen: G does not hold the
+// far walls, and the pocket reaches the grid's border (the outside).
+octomap::OcTree seenThroughNarrowDoor(bool outside = false)
+{
+  octomap::OcTree t(0.05);
+  test::addRoom(t, -3.0, 3.0, -2.0, 0.0);
+  test::setColumns(t, -0.3, 0.3, 0.0, 0.05, false);   // the door
+  test::setColumns(t, -3.0, 3.0, 0.05, 1.0, false);   // seen through it
+  test::setColumns(t, -3.05, -3.0, 0.0, 3.05, true);  // the far room's walls
+  test::setColumns(t, 3.0, 3.05, 0.0, 3.05, true);
+  test::setColumns(t, -3.05, 3.05, 3.0, 3.05, true);
+  if (!outside)
+  {
+    test::setColumns(t, -3.0, -2.8, 1.0, 3.0, false);
+    test::setColumns(t, 2.8, 3.0, 1.0, 3.0, false);
+    test::setColumns(t, -2.8, 2.8, 2.8, 3.0, false);
+  }
+  t.updateInnerOccupancy();
+  return t;
+}
+}  // namespace
+
+TEST(Planner, UnreachedFrontiersAreViewedFromTheReachOnceNothingElseIsLeft)
+{
+  const CPose2D robot(-1.5, -1.0, 0.0);
+  const auto V = seenThroughNarrowDoor();
+  // Reachable frontiers only (the thesis): nothing to do, the far room's
+  // known floor cut off.
+  const auto thesis = plan(V, robot, params());
+  EXPECT_EQ(thesis.done, DoneReason::NoFrontier) << thesis.message;
+  for (const auto strategy : {Strategy::NextBestView, Strategy::NearestFrontier})
+  {
+    PlannerParams p = params();
+    p.strategy = strategy;
+    p.sampling.unreached_frontiers = true;
+    const auto r = plan(V, robot, p);
+    ASSERT_TRUE(r.ok()) << r.message;
+    ASSERT_TRUE(r.frontier);
+    EXPECT_TRUE(r.frontier->unreached);
+    EXPECT_GT(r.frontier->center.y(), 0.7);  // in the far room, not the door
+    EXPECT_NEAR(r.frontier->unknown_m2, 5.6 * 1.8, 0.5);
+    EXPECT_NE(r.message.find("unreached"), std::string::npos) << r.message;
+    // The view stays on the robot's side of the wall, in sight of the frontier.
+    EXPECT_LT(r.target.y(), -0.3);
+    EXPECT_LE(std::abs(r.target.y() - r.frontier->center.y()), p.sampling.d_max_sample_m + 1.0);
+    ASSERT_FALSE(r.waypoints.empty());
+    for (const auto& w : r.waypoints) EXPECT_LT(w.y(), -0.3);
+    // A smaller pocket than asked for, or one open to the outside, is left.
+    p.sampling.unreached_min_unknown_m2 = 20.0;
+    EXPECT_EQ(plan(V, robot, p).done, DoneReason::NoFrontier);
+    p.sampling.unreached_min_unknown_m2 = 8.0;
+    EXPECT_EQ(plan(seenThroughNarrowDoor(true), robot, p).done, DoneReason::NoFrontier);
+    // Farther than d_max_sample_m from the reach: left too.
+    p.sampling.d_max_sample_m = 1.2;
+    EXPECT_FALSE(plan(V, robot, p).ok());
+  }
+}
+
+TEST(Planner, UnreachedFrontiersWaitForTheReachedOnes)
+{
+  // The doorway room (a reachable frontier) with the flag on plans as before.
+  const auto V = doorRoom();
+  PlannerParams p = params();
+  const auto before = plan(V, CPose2D(-1.5, 0.0, 0.0), p);
+  p.sampling.unreached_frontiers = true;
+  const auto now = plan(V, CPose2D(-1.5, 0.0, 0.0), p);
+  ASSERT_TRUE(before.ok() && now.ok()) << now.message;
+  EXPECT_FALSE(now.frontier->unreached);
+  EXPECT_EQ(now.frontiers->frontiers.size(), before.frontiers->frontiers.size());
+  EXPECT_NEAR(now.target.x(), before.target.x(), 1e-12);
+  EXPECT_NEAR(now.target.y(), before.target.y(), 1e-12);
 }

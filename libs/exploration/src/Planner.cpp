@@ -249,7 +249,7 @@ PlanResult plan(
                             looks);
   const auto ground = r.ground;
   const auto space = r.space;
-  const auto fm = r.frontiers;
+  auto fm = r.frontiers;
   tic.Tic();
   auto rooms = std::make_shared<RoomMap>(segmentRooms(*ground, *space, p.rooms));
   r.rooms = rooms;
@@ -262,7 +262,30 @@ PlanResult plan(
     for (const int32_t room : r.frontier_rooms) in_room.push_back(room == r.robot_room);
   r.ms.rooms = 1e3 * tic.Tac();
 
-  if (fm->frontiers.empty())
+  // The unreached frontiers (SamplingParams::unreached_frontiers), once the
+  // reached ones give no target: appended, the reached ones stay skipped.
+  bool unreached_pass = !p.sampling.unreached_frontiers;
+  const auto addUnreached = [&]
+  {
+    unreached_pass = true;
+    tic.Tic();
+    auto more = unreachedFrontiers(*ground, *space, *fm, &r.retired,
+                                   {p.sampling.d_max_sample_m, p.sampling.unreached_min_unknown_m2});
+    r.ms.frontiers += 1e3 * tic.Tac();
+    if (more.empty()) return false;
+    auto all = std::make_shared<FrontierMap>(*fm);
+    for (Frontier& f : more)
+    {
+      f.id = static_cast<int>(all->frontiers.size());
+      r.frontier_rooms.push_back(majorityRoom(*rooms, f));
+      if (!in_room.empty()) in_room.push_back(r.frontier_rooms.back() == r.robot_room);
+      all->frontiers.push_back(std::move(f));
+    }
+    fm = all;
+    r.frontiers = all;
+    return true;
+  };
+  if (fm->frontiers.empty() && (unreached_pass || !addUnreached()))
   {
     r.done = DoneReason::NoFrontier;
     r.message = "no frontier: the reachable space is fully explored";
@@ -300,8 +323,10 @@ PlanResult plan(
   }
   while (r.done == DoneReason::None)
   {
-    const auto fi = chooseFrontier(fm->frontiers, order, blacklist, r.skipped_frontiers,
-                                   by_tour ? &rank : nullptr, in_room.empty() ? nullptr : &in_room);
+    const std::vector<double>* ranks = by_tour && !unreached_pass ? &rank : nullptr;
+    const auto fi = chooseFrontier(fm->frontiers, order, blacklist, r.skipped_frontiers, ranks,
+                                   in_room.empty() ? nullptr : &in_room);
+    if (!fi && !unreached_pass && addUnreached()) continue;
     if (!fi)
     {
       r.done = r.skipped_frontiers.empty() ? DoneReason::NoReachableFrontier : DoneReason::AllSkipped;
@@ -345,8 +370,8 @@ PlanResult plan(
       skip.push_back(*fi);
       while (batch.size() < static_cast<std::size_t>(p.sampling.frontiers_rated))
       {
-        const auto fj = chooseFrontier(fm->frontiers, order, blacklist, skip,
-                                       by_tour ? &rank : nullptr, in_room.empty() ? nullptr : &in_room);
+        const auto fj = chooseFrontier(fm->frontiers, order, blacklist, skip, ranks,
+                                       in_room.empty() ? nullptr : &in_room);
         if (!fj) break;
         skip.push_back(*fj);
         if (!approached(*fj)) batch.push_back(*fj);
@@ -361,12 +386,13 @@ PlanResult plan(
       why[k] = candidatesFor(V, p, batch[k], step, r.approached, r, candidates);
     if (!candidates.empty() && pathToBest(robot, p, std::move(candidates), r, footprint_cost))
     {
-      if (by_tour)
+      if (by_tour && !r.frontier->unreached)
         r.tour = tours[order.judgedLength(*r.frontier) > order.th_f1_m ? 0 : 1];
       std::ostringstream os;
       os << "frontier " << r.frontier_index << " (" << r.frontier->size_m << " m";
       if (p.sampling.judge_opening) os << ", opening " << r.frontier->opening_m << " m";
-      os << ", " << r.frontier->distance_m << " m away" << (r.approached ? ", approached" : "");
+      os << ", " << r.frontier->distance_m << " m away" << (r.approached ? ", approached" : "")
+         << (r.frontier->unreached ? ", unreached: viewed from the reach" : "");
       if (batch.size() > 1) os << ", best of " << batch.size() << " rated";
       os << "): target (" << r.target.x() << ", " << r.target.y() << "), path "
          << r.path->length_m << " m in " << r.waypoints.size() << " waypoints";

@@ -296,13 +296,14 @@ void measureUnknownBehind(const Search& s, std::vector<Frontier>& frontiers, dou
   }
 }
 
-/// Groups frontier cells 8-connected, in row-major order of their first cell.
-std::vector<Frontier> groupFrontiers(const Search& s, const Grid<SpaceState>& g)
+/// Groups the cells marked in `is_frontier` 8-connected, in row-major order
+/// of their first cell; with `split`, a group longer than
+/// kMaxFootprintFrontierCells is cut into pieces.
+std::vector<Frontier> groupCells(const Search& s, const Grid<SpaceState>& g,
+                                 const std::vector<uint8_t>& is_frontier, bool split)
 {
   const std::size_t n = s.dist.size();
-  std::vector<uint8_t> is_frontier(n, 0), taken(n, 0);
-  for (std::size_t i = 0; i < n; ++i) is_frontier[i] = isFrontierCell(s, static_cast<int>(i));
-  if (s.grow_cells > 0) growFrontier(s, is_frontier, s.grow_cells);
+  std::vector<uint8_t> taken(n, 0);
   std::vector<Frontier> out;
   std::vector<int> stack;
   for (std::size_t seed = 0; seed < n; ++seed)
@@ -327,7 +328,7 @@ std::vector<Frontier> groupFrontiers(const Search& s, const Grid<SpaceState>& g)
         stack.push_back(j);
       }
     }
-    if (s.grow_cells > 0 && static_cast<int>(f.cells.size()) > kMaxFootprintFrontierCells)
+    if (split && static_cast<int>(f.cells.size()) > kMaxFootprintFrontierCells)
     {
       for (auto& piece : splitFrontier(s, f.cells))
       {
@@ -341,6 +342,85 @@ std::vector<Frontier> groupFrontiers(const Search& s, const Grid<SpaceState>& g)
     describe(f, s, g);
     out.push_back(std::move(f));
   }
+  return out;
+}
+
+/// Groups the frontier cells (isFrontierCell, grown in the footprint model)
+/// 8-connected, in row-major order of their first cell.
+std::vector<Frontier> groupFrontiers(const Search& s, const Grid<SpaceState>& g)
+{
+  std::vector<uint8_t> is_frontier(s.dist.size(), 0);
+  for (std::size_t i = 0; i < is_frontier.size(); ++i)
+    is_frontier[i] = isFrontierCell(s, static_cast<int>(i));
+  if (s.grow_cells > 0) growFrontier(s, is_frontier, s.grow_cells);
+  return groupCells(s, g, is_frontier, s.grow_cells > 0);
+}
+
+/// The unreached frontiers (UnreachedFrontiers): Free cells of G that the
+/// search `s` did not reach, within `within_cells` of a reached cell over
+/// Free cells of G (8-connected, no corner cutting), that border open
+/// unknown and belong to no frontier of `reached`; grouped as the footprint
+/// model's (`split`), their distance the nearest reached cell's plus the
+/// way from it; pockets of open unknown reaching the grid's border left out.
+/// Our own, not the thesis' (4.5.3 keeps reachable cells only).
+std::vector<Frontier> unreachedFrom(const GroundGrid& g, const Search& s,
+                                         const Grid<SpaceState>& grid,
+                                         const std::vector<Frontier>& reached, int within_cells,
+                                         double min_unknown_m2)
+{
+  const auto& cells = g.state.data();
+  const std::size_t n = cells.size();
+  const auto gfree = [&](int i) { return cells[static_cast<std::size_t>(i)] == GroundState::Free; };
+  Search u = s;  // dist becomes the way to the nearest reached cell plus its distance
+  std::vector<double> extra(n, -1.0);
+  using Item = std::pair<double, int>;
+  std::priority_queue<Item, std::vector<Item>, std::greater<Item>> open;
+  for (std::size_t i = 0; i < n; ++i)
+    if (s.dist[i] >= 0 && gfree(static_cast<int>(i)))
+    {
+      extra[i] = 0;
+      open.push({0.0, static_cast<int>(i)});
+    }
+  while (!open.empty())
+  {
+    const auto [d, i] = open.top();
+    open.pop();
+    if (d > extra[static_cast<std::size_t>(i)]) continue;
+    const int cx = i % s.nx, cy = i / s.nx;
+    for (int k = 0; k < 8; ++k)
+    {
+      const int x = cx + kDx[k], y = cy + kDy[k];
+      if (x < 0 || y < 0 || x >= s.nx || y >= s.ny) continue;
+      const int j = x + y * s.nx;
+      if (s.dist[j] >= 0 || !gfree(j)) continue;
+      if (k >= 4 && (!gfree(cx + kDx[k] + cy * s.nx) || !gfree(cx + (cy + kDy[k]) * s.nx)))
+        continue;
+      const double nd = d + (k < 4 ? 1.0 : kSqrt2);
+      if (nd > within_cells || (extra[j] >= 0 && extra[j] <= nd)) continue;
+      extra[j] = nd;
+      u.dist[j] = u.dist[i] + (k < 4 ? 1.0 : kSqrt2);
+      open.push({nd, j});
+    }
+  }
+  std::vector<uint8_t> is_frontier(n, 0);
+  for (std::size_t i = 0; i < n; ++i)
+    is_frontier[i] = extra[i] > 0 && bordersOpenUnknown(u, static_cast<int>(i));
+  for (const Frontier& f : reached)
+    for (const Cell& c : f.cells) is_frontier[static_cast<std::size_t>(c.cx + c.cy * s.nx)] = 0;
+  // Only the unreached cells carry a distance: a piece's is its own cells'.
+  for (std::size_t i = 0; i < n; ++i)
+    if (extra[i] <= 0) u.dist[i] = -1;
+  std::vector<Frontier> out = groupCells(u, grid, is_frontier, s.grow_cells > 0);
+  measureUnknownBehind(u, out, grid.getResolution());
+  // A pocket reaching the grid's border (infinite) is the outside beyond an
+  // outer wall's unseen base, not a room (b5: 60 of 89 frontiers so).
+  out.erase(std::remove_if(out.begin(), out.end(), [&](const Frontier& f) {
+              return f.unknown_m2 < min_unknown_m2 || std::isinf(f.unknown_m2);
+            }),
+            out.end());
+  for (Frontier& f : out) f.unreached = true;
+  std::stable_sort(out.begin(), out.end(), [](const Frontier& a, const Frontier& b)
+                   { return a.distance_m < b.distance_m; });
   return out;
 }
 }  // namespace
@@ -392,6 +472,33 @@ FrontierMap findFrontiers(const GroundGrid& g, const CollisionSpace& cs,
       { return a.distance_m != b.distance_m ? a.distance_m < b.distance_m : a.size_m > b.size_m; });
   for (std::size_t k = 0; k < fm.frontiers.size(); ++k) fm.frontiers[k].id = static_cast<int>(k);
   return fm;
+}
+
+std::vector<Frontier> unreachedFrontiers(const GroundGrid& g, const CollisionSpace& cs,
+                                         const FrontierMap& fm, const std::vector<uint8_t>* retired,
+                                         const UnreachedFrontiers& params)
+{
+  const Grid<SpaceState>& grid = cs.state;
+  ASSERT_EQUAL_(fm.distance_m.data().size(), grid.data().size());
+  ASSERT_EQUAL_(cs.open_unknown.size(), grid.data().size());
+  if (params.within_m <= 0) return {};
+  const double res = grid.getResolution();
+  Search s;
+  s.nx = static_cast<int>(grid.getSizeX());
+  s.ny = static_cast<int>(grid.getSizeY());
+  s.space = grid.data().data();
+  s.open_unknown = cs.open_unknown.data();
+  s.retired = retired && !retired->empty() ? retired->data() : nullptr;
+  s.grow_cells = static_cast<int>(std::ceil(cs.frontier_grow_m / res - 1e-9));
+  s.dist.resize(grid.data().size());
+  for (std::size_t i = 0; i < s.dist.size(); ++i)
+  {
+    const float d = fm.distance_m.data()[i];
+    s.dist[i] = d < 0 ? -1.0 : d / res;
+  }
+  return unreachedFrom(g, s, grid, fm.frontiers,
+                       static_cast<int>(std::floor(params.within_m / res + 1e-9)),
+                       params.min_unknown_m2);
 }
 
 double cutOffFloorM2(const GroundGrid& g, const CollisionSpace& cs, const FrontierMap& fm)

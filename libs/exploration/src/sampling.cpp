@@ -120,6 +120,8 @@ void SamplingParams::loadFromConfigFile(const mrpt::config::CConfigFileBase& c,
   MRPT_LOAD_CONFIG_VAR(travel_cost_per_m, double, c, s);
   MRPT_LOAD_CONFIG_VAR(frontiers_rated, int, c, s);
   MRPT_LOAD_CONFIG_VAR(rate_reached_yaw, bool, c, s);
+  MRPT_LOAD_CONFIG_VAR(unreached_frontiers, bool, c, s);
+  MRPT_LOAD_CONFIG_VAR(unreached_min_unknown_m2, double, c, s);
   MRPT_LOAD_CONFIG_VAR(retire_looks, int, c, s);
   MRPT_LOAD_CONFIG_VAR(look_range_m, double, c, s);
   MRPT_LOAD_CONFIG_VAR(retire_pocket_m2, double, c, s);
@@ -137,6 +139,7 @@ void SamplingParams::loadFromConfigFile(const mrpt::config::CConfigFileBase& c,
   requireValid(judge_opening_min_unknown_m2 >= 0, c, s, "judge_opening_min_unknown_m2", "must be >= 0");
   requireValid(enclosed_unknown_m2 >= 0, c, s, "enclosed_unknown_m2", "must be >= 0");
   requireValid(travel_cost_per_m >= 0, c, s, "travel_cost_per_m", "must be >= 0");
+  requireValid(unreached_min_unknown_m2 >= 0, c, s, "unreached_min_unknown_m2", "must be >= 0");
   requireValid(frontiers_rated >= 1, c, s, "frontiers_rated", "must be >= 1");
   requireValid(retire_looks >= 0, c, s, "retire_looks", "must be >= 0");
   requireValid(look_range_m > 0, c, s, "look_range_m", "must be > 0");
@@ -162,6 +165,8 @@ void SamplingParams::saveToConfigFile(mrpt::config::CConfigFileBase& c, const st
   MRPT_SAVE_CONFIG_VAR(travel_cost_per_m, c, s);
   MRPT_SAVE_CONFIG_VAR(frontiers_rated, c, s);
   MRPT_SAVE_CONFIG_VAR(rate_reached_yaw, c, s);
+  MRPT_SAVE_CONFIG_VAR(unreached_frontiers, c, s);
+  MRPT_SAVE_CONFIG_VAR(unreached_min_unknown_m2, c, s);
   MRPT_SAVE_CONFIG_VAR(retire_looks, c, s);
   MRPT_SAVE_CONFIG_VAR(look_range_m, c, s);
   MRPT_SAVE_CONFIG_VAR(retire_pocket_m2, c, s);

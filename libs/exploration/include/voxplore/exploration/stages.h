@@ -212,6 +212,10 @@ struct Frontier
   double unknown_m2 = 0;
   Eigen::Vector2d centroid{0, 0};  ///< mean of its cell centres [m]
   Eigen::Vector2d center{0, 0};    ///< its cell nearest to the centroid [m] (lies on the frontier)
+  /// Known free floor the planner's robot does not reach, bordering open
+  /// unknown, within UnreachedFrontiers::within_m of where it does: to be
+  /// seen from there (unreachedFrontiers).
+  bool unreached = false;
 };
 
 /// @brief Reachability and frontiers.
@@ -243,6 +247,25 @@ UnknownPockets openUnknownPockets(const uint8_t* open_unknown, int nx, int ny);
 ///        are no frontier source (FrontierLooks::retiredMask).
 FrontierMap findFrontiers(const GroundGrid& g, const CollisionSpace& cs,
                           const std::vector<uint8_t>* retired = nullptr);
+
+/// @brief Where unreachedFrontiers looks.
+struct UnreachedFrontiers
+{
+  double within_m = 0;        ///< over G's Free cells from a reached cell [m]; 0 = none
+  double min_unknown_m2 = 0;  ///< only those bordering this much open unknown [m^2]
+};
+/// @brief The frontiers of known free floor the planner's robot does not
+///        reach (SamplingParams::unreached_frontiers): Free cells of G that
+///        fm does not reach, within params.within_m of a reached cell over
+///        Free cells of G, bordering a finite pocket of open unknown of at
+///        least params.min_unknown_m2, and in no frontier of fm; grouped
+///        like fm's, sorted by distance (the nearest reached cell's plus
+///        the way from it), Frontier::unreached set. Our own (thesis 4.5.3
+///        keeps reachable cells only).
+std::vector<Frontier> unreachedFrontiers(const GroundGrid& g, const CollisionSpace& cs,
+                                         const FrontierMap& fm,
+                                         const std::vector<uint8_t>* retired,
+                                         const UnreachedFrontiers& params);
 
 /// @brief Known free floor the robot cannot get to [m^2]: the Free cells of G
 ///        farther than cs.radius_m + l_res from every reachable cell (no
@@ -315,6 +338,19 @@ struct SamplingParams : public mrpt::config::CLoadableOptions
   /// cannot take: the omniRob beside a door in a 2.2 m corridor was rated
   /// at -58 deg and stood at -79 deg, twice, and the room was never entered.
   bool rate_reached_yaw = false;
+  /// Once no frontier the planner's robot reaches gives a target, the
+  /// frontiers of known free floor it does not reach (within d_max_sample_m
+  /// of where it does, over G's Free cells, bordering a pocket of open
+  /// unknown of at least unreached_min_unknown_m2 that does not reach the
+  /// grid's border: a room, not the outside) are viewed from where it
+  /// does, by both strategies (Frontier::unreached). A room seen through a
+  /// door only at a slant stays open unknown just behind it, and the
+  /// omniRob's rectangle, which keeps its margin from open unknown, cannot
+  /// enter it: the run ended "no frontier" with the room unseen (b5 omniRob
+  /// nearest: two rooms, 41 m^2 of known floor cut off, coverage 0.929).
+  /// false = reachable frontiers only (thesis 4.5.3).
+  bool unreached_frontiers = false;
+  double unreached_min_unknown_m2 = 8.0;  ///< ... [m^2]
   /// @brief The length the tiers judge frontier f by [m].
   /// judge_opening only for frontiers that border at least this much open
   /// unknown (Frontier::unknown_m2; a door to an unseen room), the others by
