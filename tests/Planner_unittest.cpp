@@ -222,6 +222,9 @@ TEST(Planner, ParamsRoundTripAndErrors)
   mrpt::config::CConfigFileMemory negative;
   negative.write("sampling", "unreached_min_unknown_m2", -1.0);
   EXPECT_THROW(q.load(negative), std::exception);
+  mrpt::config::CConfigFileMemory shallow;
+  shallow.write("sampling", "unreached_min_depth_m", -0.5);
+  EXPECT_THROW(q.load(shallow), std::exception);
 }
 
 TEST(Planner, AutoFootprintMarginsFollowTheRobotsWidthAgainstTheDoor)
@@ -624,6 +627,11 @@ TEST(Planner, UnreachedFrontiersAreViewedFromTheReachOnceNothingElseIsLeft)
     EXPECT_EQ(plan(V, robot, p).done, DoneReason::NoFrontier);
     p.sampling.unreached_min_unknown_m2 = 8.0;
     EXPECT_EQ(plan(seenThroughNarrowDoor(true), robot, p).done, DoneReason::NoFrontier);
+    // No cell of it min_depth_m beyond the reach (the floor along a wall:
+    // here none within d_max_sample_m, 3 m, lies 3.5 m beyond it): left.
+    p.sampling.unreached_min_depth_m = 3.5;
+    EXPECT_EQ(plan(V, robot, p).done, DoneReason::NoFrontier);
+    p.sampling.unreached_min_depth_m = 1.0;
     // Farther than d_max_sample_m from the reach: left too.
     p.sampling.d_max_sample_m = 1.2;
     EXPECT_FALSE(plan(V, robot, p).ok());

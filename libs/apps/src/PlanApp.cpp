@@ -279,10 +279,11 @@ exploration::PlanResult PlanApp::execute(const PlanOptions& o, std::ostream& out
       for (std::size_t k = 0; k < r.skipped_frontiers.size(); ++k)
         if (r.skipped_frontiers[k] == i)
           skipped = std::string(", skipped: ") + exploration::toString(r.skip_reasons[k]);
-      out << mrpt::format("  %3zu (%.3f, %.3f): %.2f m, opening %.2f m, unknown %.1f m^2, %.2f m away, room %d%s%s\n",
+      out << mrpt::format("  %3zu (%.3f, %.3f): %.2f m, opening %.2f m, unknown %.1f m^2, %.2f m away, room %d%s%s%s\n",
                           i, fs[i].center.x(), fs[i].center.y(), fs[i].size_m, fs[i].opening_m, fs[i].unknown_m2,
                           fs[i].distance_m, i < r.frontier_rooms.size() ? r.frontier_rooms[i] : -1,
-                          skipped.c_str(), r.frontier && r.frontier->id == fs[i].id ? ", chosen" : "");
+                          fs[i].unreached ? ", unreached" : "", skipped.c_str(),
+                          r.frontier && r.frontier->id == fs[i].id ? ", chosen" : "");
     }
     if (r.retired_m2 > 0)
       out << mrpt::format("open unknown looked at and left unknown (no frontier source): %.2f m^2\n",

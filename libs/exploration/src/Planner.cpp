@@ -249,7 +249,7 @@ PlanResult plan(
                             looks);
   const auto ground = r.ground;
   const auto space = r.space;
-  auto fm = r.frontiers;
+  const auto fm = r.frontiers;
   tic.Tic();
   auto rooms = std::make_shared<RoomMap>(segmentRooms(*ground, *space, p.rooms));
   r.rooms = rooms;
@@ -262,30 +262,7 @@ PlanResult plan(
     for (const int32_t room : r.frontier_rooms) in_room.push_back(room == r.robot_room);
   r.ms.rooms = 1e3 * tic.Tac();
 
-  // The unreached frontiers (SamplingParams::unreached_frontiers), once the
-  // reached ones give no target: appended, the reached ones stay skipped.
-  bool unreached_pass = !p.sampling.unreached_frontiers;
-  const auto addUnreached = [&]
-  {
-    unreached_pass = true;
-    tic.Tic();
-    auto more = unreachedFrontiers(*ground, *space, *fm, &r.retired,
-                                   {p.sampling.d_max_sample_m, p.sampling.unreached_min_unknown_m2});
-    r.ms.frontiers += 1e3 * tic.Tac();
-    if (more.empty()) return false;
-    auto all = std::make_shared<FrontierMap>(*fm);
-    for (Frontier& f : more)
-    {
-      f.id = static_cast<int>(all->frontiers.size());
-      r.frontier_rooms.push_back(majorityRoom(*rooms, f));
-      if (!in_room.empty()) in_room.push_back(r.frontier_rooms.back() == r.robot_room);
-      all->frontiers.push_back(std::move(f));
-    }
-    fm = all;
-    r.frontiers = all;
-    return true;
-  };
-  if (fm->frontiers.empty() && (unreached_pass || !addUnreached()))
+  if (fm->frontiers.empty())
   {
     r.done = DoneReason::NoFrontier;
     r.message = "no frontier: the reachable space is fully explored";
@@ -308,7 +285,7 @@ PlanResult plan(
     {
       const Frontier& f = fm->frontiers[i];
       const double length = order.judgedLength(f);
-      if (length <= order.th_f2_m || order.enclosed(f) ||
+      if (f.unreached || length <= order.th_f2_m || order.enclosed(f) ||
           nearAny(f.center, blacklist, order.blacklist_radius_m))
         continue;
       (length > order.th_f1_m ? tier1 : tier2).push_back(i);
@@ -321,12 +298,28 @@ PlanResult plan(
     }
     r.ms.tour = 1e3 * tic.Tac();
   }
+  // The unreached frontiers (SamplingParams::unreached_frontiers) wait
+  // until the reached ones give no target.
+  std::vector<std::size_t> held;
+  for (std::size_t i = 0; i < fm->frontiers.size(); ++i)
+    if (fm->frontiers[i].unreached) held.push_back(i);
+  const auto skipping = [&](std::vector<std::size_t> skip)
+  {
+    skip.insert(skip.end(), held.begin(), held.end());
+    return skip;
+  };
+  bool unreached_pass = false;
   while (r.done == DoneReason::None)
   {
     const std::vector<double>* ranks = by_tour && !unreached_pass ? &rank : nullptr;
-    const auto fi = chooseFrontier(fm->frontiers, order, blacklist, r.skipped_frontiers, ranks,
-                                   in_room.empty() ? nullptr : &in_room);
-    if (!fi && !unreached_pass && addUnreached()) continue;
+    const auto fi = chooseFrontier(fm->frontiers, order, blacklist, skipping(r.skipped_frontiers),
+                                   ranks, in_room.empty() ? nullptr : &in_room);
+    if (!fi && !held.empty())
+    {
+      held.clear();
+      unreached_pass = true;
+      continue;
+    }
     if (!fi)
     {
       r.done = r.skipped_frontiers.empty() ? DoneReason::NoReachableFrontier : DoneReason::AllSkipped;
@@ -370,7 +363,7 @@ PlanResult plan(
       skip.push_back(*fi);
       while (batch.size() < static_cast<std::size_t>(p.sampling.frontiers_rated))
       {
-        const auto fj = chooseFrontier(fm->frontiers, order, blacklist, skip, ranks,
+        const auto fj = chooseFrontier(fm->frontiers, order, blacklist, skipping(skip), ranks,
                                        in_room.empty() ? nullptr : &in_room);
         if (!fj) break;
         skip.push_back(*fj);

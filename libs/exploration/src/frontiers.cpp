@@ -356,31 +356,46 @@ std::vector<Frontier> groupFrontiers(const Search& s, const Grid<SpaceState>& g)
   return groupCells(s, g, is_frontier, s.grow_cells > 0);
 }
 
-/// The unreached frontiers (UnreachedFrontiers): Free cells of G that the
-/// search `s` did not reach, within `within_cells` of a reached cell over
+/// The unreached frontiers (findFrontiers' `unreached`): Free cells of G that the
+/// search `s` did not reach, within params.within_m of a reached cell over
 /// Free cells of G (8-connected, no corner cutting), that border open
 /// unknown and belong to no frontier of `reached`; grouped as the footprint
 /// model's (`split`), their distance the nearest reached cell's plus the
-/// way from it; pockets of open unknown reaching the grid's border left out.
-/// Our own, not the thesis' (4.5.3 keeps reachable cells only).
+/// way from it; kept when a cell of the group lies at least
+/// params.min_depth_m beyond the reach and the pocket it borders is closed
+/// and at least params.min_unknown_m2. Our own, not the thesis' (4.5.3
+/// keeps reachable cells only).
 std::vector<Frontier> unreachedFrom(const GroundGrid& g, const Search& s,
-                                         const Grid<SpaceState>& grid,
-                                         const std::vector<Frontier>& reached, int within_cells,
-                                         double min_unknown_m2)
+                                    const Grid<SpaceState>& grid,
+                                    const std::vector<Frontier>& reached,
+                                    const UnreachedFrontiers& params)
 {
+  const double res = grid.getResolution();
+  const double within = params.within_m / res + 1e-9;
   const auto& cells = g.state.data();
   const std::size_t n = cells.size();
   const auto gfree = [&](int i) { return cells[static_cast<std::size_t>(i)] == GroundState::Free; };
+  const auto neighbour = [&](int i, int k) {
+    const int x = i % s.nx + kDx[k], y = i / s.nx + kDy[k];
+    return x < 0 || y < 0 || x >= s.nx || y >= s.ny ? -1 : x + y * s.nx;
+  };
   Search u = s;  // dist becomes the way to the nearest reached cell plus its distance
   std::vector<double> extra(n, -1.0);
   using Item = std::pair<double, int>;
   std::priority_queue<Item, std::vector<Item>, std::greater<Item>> open;
-  for (std::size_t i = 0; i < n; ++i)
-    if (s.dist[i] >= 0 && gfree(static_cast<int>(i)))
+  // Seeds: the reached cells beside an unreached Free cell of G.
+  for (int i = 0; i < static_cast<int>(n); ++i)
+  {
+    if (s.dist[i] < 0 || !gfree(i)) continue;
+    for (int k = 0; k < 8; ++k)
     {
+      const int j = neighbour(i, k);
+      if (j < 0 || s.dist[j] >= 0 || !gfree(j)) continue;
       extra[i] = 0;
-      open.push({0.0, static_cast<int>(i)});
+      open.push({0.0, i});
+      break;
     }
+  }
   while (!open.empty())
   {
     const auto [d, i] = open.top();
@@ -389,14 +404,12 @@ std::vector<Frontier> unreachedFrom(const GroundGrid& g, const Search& s,
     const int cx = i % s.nx, cy = i / s.nx;
     for (int k = 0; k < 8; ++k)
     {
-      const int x = cx + kDx[k], y = cy + kDy[k];
-      if (x < 0 || y < 0 || x >= s.nx || y >= s.ny) continue;
-      const int j = x + y * s.nx;
-      if (s.dist[j] >= 0 || !gfree(j)) continue;
+      const int j = neighbour(i, k);
+      if (j < 0 || s.dist[j] >= 0 || !gfree(j)) continue;
       if (k >= 4 && (!gfree(cx + kDx[k] + cy * s.nx) || !gfree(cx + (cy + kDy[k]) * s.nx)))
         continue;
       const double nd = d + (k < 4 ? 1.0 : kSqrt2);
-      if (nd > within_cells || (extra[j] >= 0 && extra[j] <= nd)) continue;
+      if (nd > within || (extra[j] >= 0 && extra[j] <= nd)) continue;
       extra[j] = nd;
       u.dist[j] = u.dist[i] + (k < 4 ? 1.0 : kSqrt2);
       open.push({nd, j});
@@ -411,11 +424,17 @@ std::vector<Frontier> unreachedFrom(const GroundGrid& g, const Search& s,
   for (std::size_t i = 0; i < n; ++i)
     if (extra[i] <= 0) u.dist[i] = -1;
   std::vector<Frontier> out = groupCells(u, grid, is_frontier, s.grow_cells > 0);
-  measureUnknownBehind(u, out, grid.getResolution());
-  // A pocket reaching the grid's border (infinite) is the outside beyond an
-  // outer wall's unseen base, not a room (b5: 60 of 89 frontiers so).
+  measureUnknownBehind(u, out, res);
+  // Within the rectangle's reach of a reached cell lie the floor along
+  // walls and furniture (b5 omniRob: 71 of 89 unreached frontiers, most
+  // facing a wall's unseen base); a pocket reaching the grid's border is the
+  // outside beyond an outer wall's unseen base, not a room.
+  const double depth = params.min_depth_m / res - 1e-9;
   out.erase(std::remove_if(out.begin(), out.end(), [&](const Frontier& f) {
-              return f.unknown_m2 < min_unknown_m2 || std::isinf(f.unknown_m2);
+              const bool deep = std::any_of(f.cells.begin(), f.cells.end(), [&](const Cell& c) {
+                return extra[static_cast<std::size_t>(c.cx + c.cy * s.nx)] >= depth;
+              });
+              return !deep || f.unknown_m2 < params.min_unknown_m2 || std::isinf(f.unknown_m2);
             }),
             out.end());
   for (Frontier& f : out) f.unreached = true;
@@ -426,7 +445,7 @@ std::vector<Frontier> unreachedFrom(const GroundGrid& g, const Search& s,
 }  // namespace
 
 FrontierMap findFrontiers(const GroundGrid& g, const CollisionSpace& cs,
-                          const std::vector<uint8_t>* retired)
+                          const std::vector<uint8_t>* retired, const UnreachedFrontiers& unreached)
 {
   const Grid<SpaceState>& grid = cs.state;
   Search s;
@@ -470,35 +489,13 @@ FrontierMap findFrontiers(const GroundGrid& g, const CollisionSpace& cs,
       fm.frontiers.begin(), fm.frontiers.end(),
       [](const Frontier& a, const Frontier& b)
       { return a.distance_m != b.distance_m ? a.distance_m < b.distance_m : a.size_m > b.size_m; });
+  if (unreached.within_m > 0)
+  {
+    const auto more = unreachedFrom(g, s, grid, fm.frontiers, unreached);
+    fm.frontiers.insert(fm.frontiers.end(), more.begin(), more.end());
+  }
   for (std::size_t k = 0; k < fm.frontiers.size(); ++k) fm.frontiers[k].id = static_cast<int>(k);
   return fm;
-}
-
-std::vector<Frontier> unreachedFrontiers(const GroundGrid& g, const CollisionSpace& cs,
-                                         const FrontierMap& fm, const std::vector<uint8_t>* retired,
-                                         const UnreachedFrontiers& params)
-{
-  const Grid<SpaceState>& grid = cs.state;
-  ASSERT_EQUAL_(fm.distance_m.data().size(), grid.data().size());
-  ASSERT_EQUAL_(cs.open_unknown.size(), grid.data().size());
-  if (params.within_m <= 0) return {};
-  const double res = grid.getResolution();
-  Search s;
-  s.nx = static_cast<int>(grid.getSizeX());
-  s.ny = static_cast<int>(grid.getSizeY());
-  s.space = grid.data().data();
-  s.open_unknown = cs.open_unknown.data();
-  s.retired = retired && !retired->empty() ? retired->data() : nullptr;
-  s.grow_cells = static_cast<int>(std::ceil(cs.frontier_grow_m / res - 1e-9));
-  s.dist.resize(grid.data().size());
-  for (std::size_t i = 0; i < s.dist.size(); ++i)
-  {
-    const float d = fm.distance_m.data()[i];
-    s.dist[i] = d < 0 ? -1.0 : d / res;
-  }
-  return unreachedFrom(g, s, grid, fm.frontiers,
-                       static_cast<int>(std::floor(params.within_m / res + 1e-9)),
-                       params.min_unknown_m2);
 }
 
 double cutOffFloorM2(const GroundGrid& g, const CollisionSpace& cs, const FrontierMap& fm)

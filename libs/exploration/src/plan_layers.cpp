@@ -60,7 +60,11 @@ PlanResult planLayersOn(GroundGrid g, const CPose2D& robot, const PlannerParams&
   if (looks)
     r.retired = retireLooked(*looks, *ground, *space, p.projectionInForce(res),
                              p.rating, p.sampling, r.retired_m2);
-  auto fm = std::make_shared<FrontierMap>(findFrontiers(*ground, *space, &r.retired));
+  UnreachedFrontiers unreached;
+  if (p.sampling.unreached_frontiers)
+    unreached = {p.sampling.d_max_sample_m, p.sampling.unreached_min_depth_m,
+                 p.sampling.unreached_min_unknown_m2};
+  auto fm = std::make_shared<FrontierMap>(findFrontiers(*ground, *space, &r.retired, unreached));
   r.ms.frontiers = 1e3 * tic.Tac();
   r.ground = ground;
   r.space = space;

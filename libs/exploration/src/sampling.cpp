@@ -122,6 +122,7 @@ void SamplingParams::loadFromConfigFile(const mrpt::config::CConfigFileBase& c,
   MRPT_LOAD_CONFIG_VAR(rate_reached_yaw, bool, c, s);
   MRPT_LOAD_CONFIG_VAR(unreached_frontiers, bool, c, s);
   MRPT_LOAD_CONFIG_VAR(unreached_min_unknown_m2, double, c, s);
+  MRPT_LOAD_CONFIG_VAR(unreached_min_depth_m, double, c, s);
   MRPT_LOAD_CONFIG_VAR(retire_looks, int, c, s);
   MRPT_LOAD_CONFIG_VAR(look_range_m, double, c, s);
   MRPT_LOAD_CONFIG_VAR(retire_pocket_m2, double, c, s);
@@ -140,6 +141,7 @@ void SamplingParams::loadFromConfigFile(const mrpt::config::CConfigFileBase& c,
   requireValid(enclosed_unknown_m2 >= 0, c, s, "enclosed_unknown_m2", "must be >= 0");
   requireValid(travel_cost_per_m >= 0, c, s, "travel_cost_per_m", "must be >= 0");
   requireValid(unreached_min_unknown_m2 >= 0, c, s, "unreached_min_unknown_m2", "must be >= 0");
+  requireValid(unreached_min_depth_m >= 0, c, s, "unreached_min_depth_m", "must be >= 0");
   requireValid(frontiers_rated >= 1, c, s, "frontiers_rated", "must be >= 1");
   requireValid(retire_looks >= 0, c, s, "retire_looks", "must be >= 0");
   requireValid(look_range_m > 0, c, s, "look_range_m", "must be > 0");
@@ -167,6 +169,7 @@ void SamplingParams::saveToConfigFile(mrpt::config::CConfigFileBase& c, const st
   MRPT_SAVE_CONFIG_VAR(rate_reached_yaw, c, s);
   MRPT_SAVE_CONFIG_VAR(unreached_frontiers, c, s);
   MRPT_SAVE_CONFIG_VAR(unreached_min_unknown_m2, c, s);
+  MRPT_SAVE_CONFIG_VAR(unreached_min_depth_m, c, s);
   MRPT_SAVE_CONFIG_VAR(retire_looks, c, s);
   MRPT_SAVE_CONFIG_VAR(look_range_m, c, s);
   MRPT_SAVE_CONFIG_VAR(retire_pocket_m2, c, s);

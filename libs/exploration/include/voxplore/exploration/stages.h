@@ -214,7 +214,7 @@ struct Frontier
   Eigen::Vector2d center{0, 0};    ///< its cell nearest to the centroid [m] (lies on the frontier)
   /// Known free floor the planner's robot does not reach, bordering open
   /// unknown, within UnreachedFrontiers::within_m of where it does: to be
-  /// seen from there (unreachedFrontiers).
+  /// seen from there (findFrontiers' `unreached`).
   bool unreached = false;
 };
 
@@ -245,27 +245,25 @@ UnknownPockets openUnknownPockets(const uint8_t* open_unknown, int nx, int ny);
 ///        step and sqrt(2) per diagonal (Dijkstra on the grid).
 ///        `retired` (optional, row-major over G): open unknown cells marked 1
 ///        are no frontier source (FrontierLooks::retiredMask).
-FrontierMap findFrontiers(const GroundGrid& g, const CollisionSpace& cs,
-                          const std::vector<uint8_t>* retired = nullptr);
-
-/// @brief Where unreachedFrontiers looks.
+///        `unreached` (within_m > 0; SamplingParams::unreached_frontiers):
+///        after them, sorted by distance, the frontiers of Free cells of G
+///        the search did not reach, within within_m of a reached cell over
+///        Free cells of G, with a cell at least min_depth_m from the reach
+///        (not the floor along a wall the rectangle cannot reach), that
+///        border a pocket of open unknown of at least min_unknown_m2 not
+///        reaching the grid's border (a room, not the outside), in no frontier
+///        before them (Frontier::unreached). Our own (thesis 4.5.3 keeps
+///        reachable cells only).
+/// @brief Where findFrontiers looks for unreached frontiers.
 struct UnreachedFrontiers
 {
   double within_m = 0;        ///< over G's Free cells from a reached cell [m]; 0 = none
-  double min_unknown_m2 = 0;  ///< only those bordering this much open unknown [m^2]
+  double min_depth_m = 1.0;   ///< a cell of the frontier at least this far from the reach [m]
+  double min_unknown_m2 = 0;  ///< bordering a closed pocket of open unknown this large [m^2]
 };
-/// @brief The frontiers of known free floor the planner's robot does not
-///        reach (SamplingParams::unreached_frontiers): Free cells of G that
-///        fm does not reach, within params.within_m of a reached cell over
-///        Free cells of G, bordering a finite pocket of open unknown of at
-///        least params.min_unknown_m2, and in no frontier of fm; grouped
-///        like fm's, sorted by distance (the nearest reached cell's plus
-///        the way from it), Frontier::unreached set. Our own (thesis 4.5.3
-///        keeps reachable cells only).
-std::vector<Frontier> unreachedFrontiers(const GroundGrid& g, const CollisionSpace& cs,
-                                         const FrontierMap& fm,
-                                         const std::vector<uint8_t>* retired,
-                                         const UnreachedFrontiers& params);
+FrontierMap findFrontiers(const GroundGrid& g, const CollisionSpace& cs,
+                          const std::vector<uint8_t>* retired = nullptr,
+                          const UnreachedFrontiers& unreached = {});
 
 /// @brief Known free floor the robot cannot get to [m^2]: the Free cells of G
 ///        farther than cs.radius_m + l_res from every reachable cell (no
@@ -340,9 +338,10 @@ struct SamplingParams : public mrpt::config::CLoadableOptions
   bool rate_reached_yaw = false;
   /// Once no frontier the planner's robot reaches gives a target, the
   /// frontiers of known free floor it does not reach (within d_max_sample_m
-  /// of where it does, over G's Free cells, bordering a pocket of open
-  /// unknown of at least unreached_min_unknown_m2 that does not reach the
-  /// grid's border: a room, not the outside) are viewed from where it
+  /// of where it does over G's Free cells, reaching unreached_min_depth_m
+  /// beyond it, bordering a pocket of open unknown of at least
+  /// unreached_min_unknown_m2 that does not reach the grid's border: a
+  /// room, not the outside) are viewed from where it
   /// does, by both strategies (Frontier::unreached). A room seen through a
   /// door only at a slant stays open unknown just behind it, and the
   /// omniRob's rectangle, which keeps its margin from open unknown, cannot
@@ -351,6 +350,7 @@ struct SamplingParams : public mrpt::config::CLoadableOptions
   /// false = reachable frontiers only (thesis 4.5.3).
   bool unreached_frontiers = false;
   double unreached_min_unknown_m2 = 8.0;  ///< ... [m^2]
+  double unreached_min_depth_m = 1.0;     ///< ... [m]
   /// @brief The length the tiers judge frontier f by [m].
   /// judge_opening only for frontiers that border at least this much open
   /// unknown (Frontier::unknown_m2; a door to an unseen room), the others by
