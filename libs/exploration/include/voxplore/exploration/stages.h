@@ -237,6 +237,14 @@ struct UnknownPockets
 };
 UnknownPockets openUnknownPockets(const uint8_t* open_unknown, int nx, int ny);
 
+/// @brief Where findFrontiers looks for unreached frontiers.
+struct UnreachedFrontiers
+{
+  double within_m = 0;        ///< over G's Free cells from a reached cell [m]; 0 = none
+  double min_depth_m = 1.0;   ///< a cell of the frontier at least this far from the reach [m]
+  double min_unknown_m2 = 0;  ///< bordering a closed pocket of open unknown this large [m^2]
+};
+
 /// @brief thesis 4.5.3: BFS from the robot over Free cells (reachable space),
 ///        continued one band into MaybeCollision cells; frontier cells are
 ///        reached Free/MaybeCollision cells with an open Unknown 4-neighbour
@@ -254,13 +262,6 @@ UnknownPockets openUnknownPockets(const uint8_t* open_unknown, int nx, int ny);
 ///        reaching the grid's border (a room, not the outside), in no frontier
 ///        before them (Frontier::unreached). Our own (thesis 4.5.3 keeps
 ///        reachable cells only).
-/// @brief Where findFrontiers looks for unreached frontiers.
-struct UnreachedFrontiers
-{
-  double within_m = 0;        ///< over G's Free cells from a reached cell [m]; 0 = none
-  double min_depth_m = 1.0;   ///< a cell of the frontier at least this far from the reach [m]
-  double min_unknown_m2 = 0;  ///< bordering a closed pocket of open unknown this large [m^2]
-};
 FrontierMap findFrontiers(const GroundGrid& g, const CollisionSpace& cs,
                           const std::vector<uint8_t>* retired = nullptr,
                           const UnreachedFrontiers& unreached = {});
@@ -341,13 +342,13 @@ struct SamplingParams : public mrpt::config::CLoadableOptions
   /// of where it does over G's Free cells, reaching unreached_min_depth_m
   /// beyond it, bordering a pocket of open unknown of at least
   /// unreached_min_unknown_m2 that does not reach the grid's border: a
-  /// room, not the outside) are viewed from where it
-  /// does, by both strategies (Frontier::unreached). A room seen through a
-  /// door only at a slant stays open unknown just behind it, and the
-  /// omniRob's rectangle, which keeps its margin from open unknown, cannot
-  /// enter it: the run ended "no frontier" with the room unseen (b5 omniRob
-  /// nearest: two rooms, 41 m^2 of known floor cut off, coverage 0.929).
-  /// false = reachable frontiers only (thesis 4.5.3).
+  /// room, not the outside) are viewed from where it does, by both
+  /// strategies (Frontier::unreached). A room seen through a door only at a
+  /// slant stays open unknown just behind it, and the omniRob's rectangle,
+  /// which keeps its margin from open unknown, cannot enter it: the run
+  /// ended "no frontier" with the room unseen (b5 omniRob nearest: two
+  /// rooms, 41 m^2 of known floor cut off, coverage 0.929). false =
+  /// reachable frontiers only (thesis 4.5.3).
   bool unreached_frontiers = false;
   double unreached_min_unknown_m2 = 8.0;  ///< ... [m^2]
   double unreached_min_depth_m = 1.0;     ///< ... [m]
