@@ -299,7 +299,9 @@ PlanResult plan(
     r.ms.tour = 1e3 * tic.Tac();
   }
   // The unreached frontiers (SamplingParams::unreached_frontiers) wait
-  // until the reached ones give no target.
+  // until the reached ones give no target. They have no tour rank
+  // (infinity), so chooseFrontier then takes them in their order, by
+  // distance, with or without `rank`.
   std::vector<std::size_t> held;
   for (std::size_t i = 0; i < fm->frontiers.size(); ++i)
     if (fm->frontiers[i].unreached) held.push_back(i);
@@ -308,16 +310,14 @@ PlanResult plan(
     skip.insert(skip.end(), held.begin(), held.end());
     return skip;
   };
-  bool unreached_pass = false;
+  const std::vector<double>* ranks = by_tour ? &rank : nullptr;
   while (r.done == DoneReason::None)
   {
-    const std::vector<double>* ranks = by_tour && !unreached_pass ? &rank : nullptr;
     const auto fi = chooseFrontier(fm->frontiers, order, blacklist, skipping(r.skipped_frontiers),
                                    ranks, in_room.empty() ? nullptr : &in_room);
     if (!fi && !held.empty())
     {
       held.clear();
-      unreached_pass = true;
       continue;
     }
     if (!fi)

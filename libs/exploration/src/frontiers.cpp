@@ -266,9 +266,10 @@ void measureOpenings(const Search& s, std::vector<Frontier>& frontiers, int grow
 /// Frontier::unknown_m2 of every frontier: the sum of the areas of the
 /// distinct pockets of open unknown (openUnknownPockets) next to its cells; a
 /// pocket that touches the grid's border is unbounded.
-void measureUnknownBehind(const Search& s, std::vector<Frontier>& frontiers, double res)
+/// `pockets`: openUnknownPockets of s.open_unknown.
+void measureUnknownBehind(const Search& s, const UnknownPockets& pockets,
+                          std::vector<Frontier>& frontiers, double res)
 {
-  const UnknownPockets pockets = openUnknownPockets(s.open_unknown, s.nx, s.ny);
   const std::vector<int32_t>& pocket = pockets.label;
   std::vector<double> area;  // per pocket [m^2]; infinity: touches the border
   for (const int64_t cells : pockets.cells)
@@ -368,6 +369,7 @@ std::vector<Frontier> groupFrontiers(const Search& s, const Grid<SpaceState>& g)
 std::vector<Frontier> unreachedFrom(const GroundGrid& g, const Search& s,
                                     const Grid<SpaceState>& grid,
                                     const std::vector<Frontier>& reached,
+                                    const UnknownPockets& pockets,
                                     const UnreachedFrontiers& params)
 {
   const double res = grid.getResolution();
@@ -424,7 +426,7 @@ std::vector<Frontier> unreachedFrom(const GroundGrid& g, const Search& s,
   for (std::size_t i = 0; i < n; ++i)
     if (extra[i] <= 0) u.dist[i] = -1;
   std::vector<Frontier> out = groupCells(u, grid, is_frontier, s.grow_cells > 0);
-  measureUnknownBehind(u, out, res);
+  measureUnknownBehind(u, pockets, out, res);
   // A pocket reaching the grid's border is the outside beyond an outer
   // wall's unseen base, not a room; within the rectangle's reach of a
   // reached cell lies the floor along walls and furniture (b5 omniRob
@@ -484,7 +486,8 @@ FrontierMap findFrontiers(const GroundGrid& g, const CollisionSpace& cs,
     for (Frontier& f : fm.frontiers) f.opening_m = f.size_m;  // grown already
   else
     measureOpenings(s, fm.frontiers, static_cast<int>(std::ceil(cs.radius_m / res - 1e-9)), res);
-  measureUnknownBehind(s, fm.frontiers, res);
+  const UnknownPockets pockets = openUnknownPockets(s.open_unknown, s.nx, s.ny);
+  measureUnknownBehind(s, pockets, fm.frontiers, res);
   // thesis 4.5.3: ascending travel distance; ties: the larger frontier first.
   std::stable_sort(
       fm.frontiers.begin(), fm.frontiers.end(),
@@ -492,7 +495,7 @@ FrontierMap findFrontiers(const GroundGrid& g, const CollisionSpace& cs,
       { return a.distance_m != b.distance_m ? a.distance_m < b.distance_m : a.size_m > b.size_m; });
   if (unreached.within_m > 0)
   {
-    const auto more = unreachedFrom(g, s, grid, fm.frontiers, unreached);
+    const auto more = unreachedFrom(g, s, grid, fm.frontiers, pockets, unreached);
     fm.frontiers.insert(fm.frontiers.end(), more.begin(), more.end());
   }
   for (std::size_t k = 0; k < fm.frontiers.size(); ++k) fm.frontiers[k].id = static_cast<int>(k);
